@@ -1,0 +1,4 @@
+#![no_std]
+pub mod scalar;
+mod trig;
+pub use scalar::Scalar;

@@ -1,0 +1,395 @@
+//! The run-time number types the controller and the irregularity generator are generic over.
+//!
+//! Why a trait of our own: the core must run on an FPU-less Cortex-M0 in fixed point as well
+//! as in `f32`/`f64`, and fixed point must never wrap silently (`fixed`'s `*` and `/` wrap in
+//! release builds). Every operation here therefore *saturates* at the type's range and raises
+//! a sticky overflow flag that the caller owns (`&mut bool`), much as NaN propagates in
+//! floats. Floats follow the same contract: a non-finite result is clamped to the largest
+//! finite value (NaN to zero) and flagged, so no NaN or infinity ever leaves the core.
+//!
+//! Parameters are designed in `f64` and converted once with [`Scalar::from_f64`]; see
+//! [`crate::levitation::Params::compile`].
+//!
+//! Implemented for `f32`, `f64`, [`I32F32`] (64-bit, 32 fractional bits) and [`I4F28`]
+//! (32-bit, 28 fractional bits: range ±8 with a resolution of 3.7e-9, meant for per-unit
+//! quantities on 32-bit cores without an FPU). Fixed-point products and quotients are
+//! computed in a double-width integer and rounded to nearest (ties towards +∞), so results
+//! are bit-identical on every platform.
+
+use core::fmt::Debug;
+
+pub use fixed::types::{I32F32, I4F28};
+
+/// A number the core computes with. See the module docs for the saturation contract.
+pub trait Scalar: Copy + PartialOrd + PartialEq + Default + Debug + 'static {
+    /// Short name used on the command line and in reports (`f64`, `f32`, `i32f32`, `i4f28`).
+    const NAME: &'static str;
+    /// Additive identity.
+    const ZERO: Self;
+    /// Multiplicative identity.
+    const ONE: Self;
+    /// Spacing of representable values around 1.0 (machine epsilon for floats, the
+    /// least significant bit for fixed point).
+    const RESOLUTION: f64;
+    /// Largest representable magnitude.
+    const MAX_ABS: f64;
+
+    /// Nearest representable value; saturates at the range and flags (NaN gives zero, flagged).
+    fn from_f64(x: f64, overflow: &mut bool) -> Self;
+    /// Exact for every type except `f64 -> f64` being the identity; fixed point converts exactly.
+    fn to_f64(self) -> f64;
+    /// Saturating addition.
+    fn sadd(self, rhs: Self, overflow: &mut bool) -> Self;
+    /// Saturating subtraction.
+    fn ssub(self, rhs: Self, overflow: &mut bool) -> Self;
+    /// Saturating, rounded multiplication.
+    fn smul(self, rhs: Self, overflow: &mut bool) -> Self;
+    /// Saturating, rounded division; division by zero saturates (0/0 gives 0) and flags.
+    fn sdiv(self, rhs: Self, overflow: &mut bool) -> Self;
+    /// Saturating negation (only fixed point's minimum can overflow).
+    fn sneg(self, overflow: &mut bool) -> Self;
+    /// `self - floor(self)`, in `[0, 1)`.
+    fn fract(self) -> Self;
+
+    /// `cos(2π·t)`, `t` in turns. The default works for any type through [`Scalar`]
+    /// arithmetic (used by fixed point); floats override it with libm / micromath.
+    fn cos_turns(self, overflow: &mut bool) -> Self {
+        crate::trig::cos_turns_generic(self, overflow)
+    }
+
+    /// The smaller of two values.
+    #[inline]
+    fn min_of(self, rhs: Self) -> Self {
+        if rhs < self {
+            rhs
+        } else {
+            self
+        }
+    }
+    /// The larger of two values.
+    #[inline]
+    fn max_of(self, rhs: Self) -> Self {
+        if rhs > self {
+            rhs
+        } else {
+            self
+        }
+    }
+    /// Clamp into `[lo, hi]` (assumes `lo <= hi`).
+    #[inline]
+    fn clamp_to(self, lo: Self, hi: Self) -> Self {
+        self.max_of(lo).min_of(hi)
+    }
+}
+
+macro_rules! float_scalar {
+    ($t:ty, $name:literal, $cos:expr) => {
+        impl Scalar for $t {
+            const NAME: &'static str = $name;
+            const ZERO: Self = 0.0;
+            const ONE: Self = 1.0;
+            const RESOLUTION: f64 = <$t>::EPSILON as f64;
+            const MAX_ABS: f64 = <$t>::MAX as f64;
+
+            #[inline]
+            fn from_f64(x: f64, overflow: &mut bool) -> Self {
+                Self::finite(x as $t, overflow)
+            }
+            #[inline]
+            fn to_f64(self) -> f64 {
+                self as f64
+            }
+            #[inline]
+            fn sadd(self, rhs: Self, overflow: &mut bool) -> Self {
+                Self::finite(self + rhs, overflow)
+            }
+            #[inline]
+            fn ssub(self, rhs: Self, overflow: &mut bool) -> Self {
+                Self::finite(self - rhs, overflow)
+            }
+            #[inline]
+            fn smul(self, rhs: Self, overflow: &mut bool) -> Self {
+                Self::finite(self * rhs, overflow)
+            }
+            #[inline]
+            fn sdiv(self, rhs: Self, overflow: &mut bool) -> Self {
+                Self::finite(self / rhs, overflow)
+            }
+            #[inline]
+            fn sneg(self, _overflow: &mut bool) -> Self {
+                -self
+            }
+            #[inline]
+            fn fract(self) -> Self {
+                let f = (self as f64 - libm::floor(self as f64)) as $t;
+                // `x - floor(x)` can round up to exactly 1.0 for tiny negative x.
+                if f >= 1.0 { 0.0 } else { f }
+            }
+            #[inline]
+            fn cos_turns(self, overflow: &mut bool) -> Self {
+                // Reduce to [-0.5, 0.5] turns first: the libraries lose accuracy on large
+                // arguments, and the reduction in turns is exact in binary floating point.
+                let t = self - libm_round(self as f64) as $t;
+                let c: fn($t) -> $t = $cos;
+                Self::finite(c(t * (2.0 * core::f64::consts::PI) as $t), overflow)
+            }
+        }
+    };
+}
+
+trait Finite: Sized {
+    fn finite(self, overflow: &mut bool) -> Self;
+}
+macro_rules! finite_impl {
+    ($t:ty) => {
+        impl Finite for $t {
+            #[inline]
+            fn finite(self, overflow: &mut bool) -> Self {
+                if self.is_finite() {
+                    self
+                } else {
+                    *overflow = true;
+                    if self.is_nan() {
+                        0.0
+                    } else if self > 0.0 {
+                        <$t>::MAX
+                    } else {
+                        <$t>::MIN
+                    }
+                }
+            }
+        }
+    };
+}
+finite_impl!(f32);
+finite_impl!(f64);
+
+#[inline]
+fn libm_round(x: f64) -> f64 {
+    libm::round(x)
+}
+
+float_scalar!(f64, "f64", |x| libm::cos(x));
+// micromath is called explicitly: on the host std's inherent `f32::cos` would shadow it and
+// the host would compute something the target does not.
+float_scalar!(f32, "f32", |x| micromath::F32Ext::cos(x));
+
+macro_rules! fixed_scalar {
+    ($t:ty, $bits:ty, $wide:ty, $frac:expr, $name:literal) => {
+        impl Scalar for $t {
+            const NAME: &'static str = $name;
+            const ZERO: Self = <$t>::ZERO;
+            const ONE: Self = <$t>::ONE;
+            const RESOLUTION: f64 = 1.0 / ((1u64 << $frac) as f64);
+            const MAX_ABS: f64 = (<$bits>::MAX as f64) / ((1u64 << $frac) as f64);
+
+            fn from_f64(x: f64, overflow: &mut bool) -> Self {
+                if x.is_nan() {
+                    *overflow = true;
+                    return <$t>::ZERO;
+                }
+                let scaled = libm::round(x * ((1u64 << $frac) as f64));
+                // `as` saturates float-to-int conversions; detect the saturation explicitly.
+                if scaled >= <$bits>::MAX as f64 {
+                    *overflow = true;
+                    <$t>::MAX
+                } else if scaled < <$bits>::MIN as f64 {
+                    *overflow = true;
+                    <$t>::MIN
+                } else {
+                    <$t>::from_bits(scaled as $bits)
+                }
+            }
+            #[inline]
+            fn to_f64(self) -> f64 {
+                self.to_bits() as f64 / ((1u64 << $frac) as f64)
+            }
+            #[inline]
+            fn sadd(self, rhs: Self, overflow: &mut bool) -> Self {
+                match self.to_bits().checked_add(rhs.to_bits()) {
+                    Some(v) => <$t>::from_bits(v),
+                    None => {
+                        *overflow = true;
+                        if rhs.to_bits() > 0 {
+                            <$t>::MAX
+                        } else {
+                            <$t>::MIN
+                        }
+                    }
+                }
+            }
+            #[inline]
+            fn ssub(self, rhs: Self, overflow: &mut bool) -> Self {
+                match self.to_bits().checked_sub(rhs.to_bits()) {
+                    Some(v) => <$t>::from_bits(v),
+                    None => {
+                        *overflow = true;
+                        if rhs.to_bits() < 0 {
+                            <$t>::MAX
+                        } else {
+                            <$t>::MIN
+                        }
+                    }
+                }
+            }
+            #[inline]
+            fn smul(self, rhs: Self, overflow: &mut bool) -> Self {
+                let p = (self.to_bits() as $wide) * (rhs.to_bits() as $wide);
+                // Round to nearest (ties towards +inf): add half an LSB, then floor-shift.
+                narrow::<$t, $bits, $wide>((p + (1 << ($frac - 1))) >> $frac, overflow)
+            }
+            fn sdiv(self, rhs: Self, overflow: &mut bool) -> Self {
+                let d = rhs.to_bits() as $wide;
+                let n = (self.to_bits() as $wide) << $frac;
+                if d == 0 {
+                    if n == 0 {
+                        return <$t>::ZERO;
+                    }
+                    *overflow = true;
+                    return if n > 0 { <$t>::MAX } else { <$t>::MIN };
+                }
+                let mut q = n / d;
+                let r = n % d;
+                // Round half away from zero on the magnitude of the remainder.
+                if 2 * r.unsigned_abs() >= d.unsigned_abs() {
+                    q += if (n < 0) == (d < 0) { 1 } else { -1 };
+                }
+                narrow::<$t, $bits, $wide>(q, overflow)
+            }
+            #[inline]
+            fn fract(self) -> Self {
+                <$t>::from_bits(self.to_bits() & ((1 << $frac) - 1))
+            }
+            #[inline]
+            fn sneg(self, overflow: &mut bool) -> Self {
+                match self.to_bits().checked_neg() {
+                    Some(v) => <$t>::from_bits(v),
+                    None => {
+                        *overflow = true;
+                        <$t>::MAX
+                    }
+                }
+            }
+        }
+
+        impl Narrow<$bits, $wide> for $t {
+            #[inline]
+            fn narrow(v: $wide, overflow: &mut bool) -> Self {
+                if v > <$bits>::MAX as $wide {
+                    *overflow = true;
+                    <$t>::MAX
+                } else if v < <$bits>::MIN as $wide {
+                    *overflow = true;
+                    <$t>::MIN
+                } else {
+                    <$t>::from_bits(v as $bits)
+                }
+            }
+        }
+    };
+}
+
+trait Narrow<B, W>: Sized {
+    fn narrow(v: W, overflow: &mut bool) -> Self;
+}
+#[inline]
+fn narrow<T: Narrow<B, W>, B, W>(v: W, overflow: &mut bool) -> T {
+    T::narrow(v, overflow)
+}
+
+fixed_scalar!(I32F32, i64, i128, 32, "i32f32");
+fixed_scalar!(I4F28, i32, i64, 28, "i4f28");
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn all_types_roundtrip<S: Scalar>() {
+        let mut ov = false;
+        for x in [0.0, 1.0, -1.0, 0.5, -2.75, 3.0e-3] {
+            let s = S::from_f64(x, &mut ov);
+            assert!((s.to_f64() - x).abs() <= S::RESOLUTION * 4.0, "{} {}", S::NAME, x);
+        }
+        assert!(!ov);
+    }
+
+    #[test]
+    fn roundtrip() {
+        all_types_roundtrip::<f64>();
+        all_types_roundtrip::<f32>();
+        all_types_roundtrip::<I32F32>();
+        all_types_roundtrip::<I4F28>();
+    }
+
+    #[test]
+    fn fixed_saturates_and_flags() {
+        let mut ov = false;
+        let big = I4F28::from_f64(7.5, &mut ov);
+        assert!(!ov);
+        let s = big.sadd(big, &mut ov);
+        assert!(ov);
+        assert_eq!(s, I4F28::MAX);
+        let mut ov = false;
+        let p = big.smul(big.sneg(&mut ov), &mut ov);
+        assert!(ov);
+        assert_eq!(p, I4F28::MIN);
+        let mut ov = false;
+        assert_eq!(I4F28::ONE.sdiv(I4F28::ZERO, &mut ov), I4F28::MAX);
+        assert!(ov);
+        let mut ov = false;
+        assert_eq!(I4F28::ZERO.sdiv(I4F28::ZERO, &mut ov), I4F28::ZERO);
+        assert!(!ov);
+        let mut ov = false;
+        assert_eq!(I4F28::from_f64(f64::NAN, &mut ov), I4F28::ZERO);
+        assert!(ov);
+        let mut ov = false;
+        assert_eq!(I4F28::from_f64(1e9, &mut ov), I4F28::MAX);
+        assert!(ov);
+    }
+
+    #[test]
+    fn float_never_leaves_nan_or_inf() {
+        let mut ov = false;
+        let x = f32::MAX.smul(2.0, &mut ov);
+        assert!(ov && x == f32::MAX);
+        let mut ov = false;
+        let y = 0.0f64.sdiv(0.0, &mut ov);
+        assert!(ov && y == 0.0);
+    }
+
+    #[test]
+    fn fixed_mul_div_round_to_nearest() {
+        let mut ov = false;
+        let third = I32F32::ONE.sdiv(I32F32::from_f64(3.0, &mut ov), &mut ov);
+        assert!((third.to_f64() - 1.0 / 3.0).abs() <= 0.5 * I32F32::RESOLUTION);
+        let lsb = I4F28::from_bits(1);
+        let half = I4F28::from_f64(0.5, &mut ov);
+        // 0.5 LSB rounds up (ties towards +inf), -0.5 LSB rounds to zero.
+        assert_eq!(lsb.smul(half, &mut ov).to_bits(), 1);
+        assert_eq!(lsb.sneg(&mut ov).smul(half, &mut ov).to_bits(), 0);
+        let a = I4F28::from_f64(-1.234567, &mut ov);
+        let b = I4F28::from_f64(0.987654, &mut ov);
+        assert!(((a.smul(b, &mut ov)).to_f64() - a.to_f64() * b.to_f64()).abs() <= 0.5 * I4F28::RESOLUTION);
+        assert!(((a.sdiv(b, &mut ov)).to_f64() - a.to_f64() / b.to_f64()).abs() <= 0.5 * I4F28::RESOLUTION + 1e-15);
+        assert!(!ov);
+    }
+
+    #[test]
+    fn cos_turns_all_types() {
+        fn check<S: Scalar>(tol: f64) {
+            let mut ov = false;
+            for i in -40..=40 {
+                let t = i as f64 * 0.0371;
+                let c = S::from_f64(t, &mut ov).cos_turns(&mut ov).to_f64();
+                let tq = S::from_f64(t, &mut ov).to_f64();
+                let want = libm::cos(2.0 * core::f64::consts::PI * tq);
+                assert!((c - want).abs() <= tol, "{} t={} got {} want {}", S::NAME, t, c, want);
+            }
+            assert!(!ov);
+        }
+        check::<f64>(1e-14);
+        check::<f32>(3e-3); // micromath's documented accuracy
+        check::<I32F32>(2e-9);
+        check::<I4F28>(3e-8);
+    }
+}

@@ -1,0 +1,4 @@
+//! One module per `maglev` subcommand. Each exposes `Args` (clap) and `run(Args) -> Result<(), String>`;
+//! errors are one line naming what is wrong.
+pub mod control;
+pub mod irregularity;

@@ -1,0 +1,132 @@
+//! The interface every guideway model offers to the coupling loop (model.md §7).
+//!
+//! Why an interface: the vehicle and the guideway share no stiffness or mass (the magnet force
+//! is their only link), so the global Newmark system of the paper is block-diagonal between
+//! them and each block can be advanced on its own within a step. The Newton–Raphson loop on
+//! the wheel forces then couples them. The FE model (`fe`) and the modal Timoshenko
+//! reference (`modal`) both implement [`Guideway`], so the same coupling, vehicles and
+//! scenarios drive either.
+//!
+//! Axes and signs (model.md §0): X along the track, Z up, displacements positive along the
+//! axes. SI units throughout.
+
+/// Properties of a straight prismatic beam, SI units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BeamSection {
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Shear modulus G (Pa).
+    pub shear_modulus: f64,
+    /// Cross-section area A (m²).
+    pub area: f64,
+    /// Shear area for shear in Y (m²).
+    pub shear_area_y: f64,
+    /// Shear area for shear in Z (m²).
+    pub shear_area_z: f64,
+    /// Second moment about Y, Iy (m⁴): bending in the X–Z plane (vertical).
+    pub iy: f64,
+    /// Second moment about Z, Iz (m⁴): bending in the X–Y plane (lateral).
+    pub iz: f64,
+    /// Torsion constant J (m⁴).
+    pub torsion_constant: f64,
+    /// Mass per unit length m (kg/m).
+    pub mass_per_length: f64,
+    /// Torsional mass moment of inertia per unit length (kg·m). `None`: ρ·(Iy + Iz).
+    pub polar_mass: Option<f64>,
+}
+
+impl BeamSection {
+    /// The §4.2 beam of the paper (model.md §9), converted from kN/m², t/m to SI.
+    pub fn paper_4_2() -> Self {
+        BeamSection {
+            youngs_modulus: 3.6e7 * 1e3,
+            shear_modulus: 1.6e7 * 1e3,
+            area: 1.5,
+            shear_area_y: 0.7,
+            shear_area_z: 0.7,
+            iy: 0.6,
+            iz: 0.6,
+            torsion_constant: 0.2,
+            mass_per_length: 3.5e3,
+            polar_mass: None,
+        }
+    }
+
+    /// Density ρ = m / A (kg/m³).
+    pub fn density(&self) -> f64 {
+        self.mass_per_length / self.area
+    }
+
+    /// Torsional mass per length: the given value, else ρ·(Iy + Iz).
+    pub fn polar_mass_per_length(&self) -> f64 {
+        self.polar_mass
+            .unwrap_or(self.density() * (self.iy + self.iz))
+    }
+}
+
+/// A line of simply supported spans along X starting at x = 0. Outside `[0, total length]`
+/// the guideway is rigid (model.md §9).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bridge {
+    pub section: BeamSection,
+    /// Span lengths (m), consecutive, each simply supported at both ends.
+    pub spans: Vec<f64>,
+}
+
+impl Bridge {
+    pub fn total_length(&self) -> f64 {
+        self.spans.iter().sum()
+    }
+}
+
+/// A force applied to the guideway at a point offset from the beam axis by a rigid link
+/// (model.md §5). Forces are those acting *on the guideway* (a magnet pulling itself up pulls
+/// the rail down: `fz = -G`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PointLoad {
+    /// Position along the track (m).
+    pub x: f64,
+    /// Offset of the point from the beam axis in Y (m).
+    pub ey: f64,
+    /// Offset of the point from the beam axis in Z (m).
+    pub ez: f64,
+    /// Force in Y (N).
+    pub fy: f64,
+    /// Force in Z (N).
+    pub fz: f64,
+}
+
+/// Displacement of a point of the guideway (rigidly linked to the axis), SI.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PointMotion {
+    pub y: f64,
+    pub z: f64,
+}
+
+/// Displacement of the beam axis at a section.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SectionMotion {
+    pub y: f64,
+    pub z: f64,
+    /// Rotation about X (rad).
+    pub rx: f64,
+}
+
+/// A guideway advanced by Newmark (γ = ½, β = ¼) with a fixed step.
+///
+/// Protocol per time step: call [`Guideway::solve_step`] once per Newton–Raphson iteration with
+/// the current estimate of the loads at `t + dt` (each call restarts from the committed state
+/// at `t`), query the trial state with [`Guideway::motion_at`] / [`Guideway::section_at`], and
+/// finally [`Guideway::commit`] it.
+pub trait Guideway {
+    /// The fixed time step (s).
+    fn time_step(&self) -> f64;
+    /// Solve the step `t -> t + dt` for the given loads at `t + dt`, from the committed state.
+    fn solve_step(&mut self, loads: &[PointLoad]);
+    /// Displacement of a point (x, ey, ez) on the trial state; zero off the bridge.
+    fn motion_at(&self, x: f64, ey: f64, ez: f64) -> PointMotion;
+    /// Axis displacement at `x` on the trial state; zero off the bridge.
+    fn section_at(&self, x: f64) -> SectionMotion;
+    /// Accept the trial state as the state at `t + dt`.
+    fn commit(&mut self);
+}
