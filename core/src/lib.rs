@@ -1,4 +1,10 @@
 #![no_std]
+#![doc = include_str!("../README.md")]
+
+pub mod guidance;
+pub mod levitation;
 pub mod scalar;
 mod trig;
+
+pub use levitation::{Interpolation, Levitation, Output, ParamError, Params, State, Status};
 pub use scalar::Scalar;

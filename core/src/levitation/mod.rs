@@ -1,0 +1,572 @@
+//! Levitation control: the paper's α-method PI law on `g = i/h` (Eq. 8–14) with its internal loop.
+//!
+//! Configuration ([`Params`], designed in `f64`; [`Levitation`], the compiled run-time form) is
+//! kept apart from state ([`State`]): one compiled controller can drive many magnets, and
+//! `update(&self, &mut State, gap)` is a pure function of its arguments (idsp style).
+//!
+//! # Per-unit deviation form
+//! Internally every quantity is a per-unit *deviation from equilibrium*:
+//!
+//! | symbol | meaning                           | equilibrium |
+//! |--------|-----------------------------------|-------------|
+//! | `x`    | `g/g0 − 1`                        | 0           |
+//! | `y`    | `KI·e_a/(R0·i0) − 1` (integral V) | 0           |
+//! | `η`    | `h/h0 − 1`                        | 0           |
+//!
+//! Eq. 14 is evaluated in its increment form. With `δ = Δt/n_sub`, `V_b = R0·i0`,
+//! `G0 = 2·K0` (Eq. 9), dividing Eq. 13 by `V_b` gives
+//!
+//! ```text
+//! Δx = c·N / (1 + c·α·(1 + kph + η))          (Eq. 14, increment form)
+//! N  = y − η − x·(1 + kpd + η)                ((B − A·g^t)/V_b)
+//! c  = V_b·δ/(G0·g0),  kpd = (KP + KI·δ)·g0/V_b,  kph = (KP + KI·δ/2)·g0/V_b
+//! y ← y − kih·(x^t + x^{t+δ}),  kih = KI·g0·δ/(2·V_b)       (Eq. 12, trapezoidal)
+//! v = 1 + y − kpv·x^{t+δ},     kpv = KP·g0/V_b              (Eq. 10/11, per unit of V_b)
+//! ```
+//!
+//! This is algebraically identical to the paper's Eq. 14 (`A`, `B` expanded), but the
+//! equilibrium is exactly zero in every type (so constant gap holds to the last bit), no
+//! large numbers cancel, and all run-time coefficients are O(1) or small — which is what lets
+//! a 32-bit fixed-point format ([`crate::scalar::I4F28`]) run it. Outputs are per unit:
+//! force `F/p0 = (1+x)²` (Eq. 1, 7), current `i/i0 = (1+x)(1+η)`, voltage `V/V_b`.
+//!
+//! # What the paper leaves open (model.md §4)
+//! * Current never negative: `g ≥ 0` is enforced (`x ≥ −1`), flagged [`Status::CURRENT_CLAMPED`].
+//! * Supply voltage bounded by `±v_max`: if the unconstrained step would end beyond it, the
+//!   step is recomputed with the coil (Eq. 9, same α-weighting) driven at `±v_max` and the
+//!   integral is frozen (conditional-integration anti-windup), flagged
+//!   [`Status::VOLTAGE_SATURATED`]. In fixed point the limit is additionally capped to the
+//!   type's range.
+//! * A gap `h ≤ 0` is a collision: the update runs with `h = 0` and flags
+//!   [`Status::COLLISION`]; never a NaN. A NaN gap is rejected ([`Status::INVALID_INPUT`]) and
+//!   the state is held.
+//! * Arithmetic overflow saturates and flags [`Status::OVERFLOW`] (see [`crate::scalar`]).
+//! * Parabolic interpolation needs `h^{t−Δt}`; before the first step the gap is taken to
+//!   have been constant.
+
+use crate::scalar::Scalar;
+
+/// How the gap is interpolated inside one outer step for the internal loop (model.md §4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Interpolation {
+    /// Linear between `h^t` and `h^{t+Δt}`.
+    Linear,
+    /// The parabola through `h^{t−Δt}`, `h^t`, `h^{t+Δt}`.
+    Parabolic,
+}
+
+/// Controller parameters in SI units, designed in `f64` (paper §4.2 values from [`Params::paper`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Params {
+    /// Nominal current i0 (A).
+    pub i0: f64,
+    /// Nominal gap h0 (m).
+    pub h0: f64,
+    /// Coil resistance R0 (Ω).
+    pub r0: f64,
+    /// Proportional gain KP (V per A/m).
+    pub kp: f64,
+    /// Integral gain KI (V per A/m·s).
+    pub ki: f64,
+    /// Static load carried by the magnet p0 (N); fixes K0 (Eq. 7).
+    pub p0: f64,
+    /// α of the α-method, in [0, 1].
+    pub alpha: f64,
+    /// Outer time step Δt (s).
+    pub dt: f64,
+    /// Number of internal-loop sub-steps per outer step (≥ 1).
+    pub n_sub: u32,
+    /// Gap interpolation inside the outer step.
+    pub interpolation: Interpolation,
+    /// Supply voltage bound (V), `f64::INFINITY` for none.
+    pub v_max: f64,
+}
+
+/// Standard gravity used for the paper's loads (m/s²).
+pub const GRAVITY: f64 = 9.81;
+
+impl Params {
+    /// The paper's §4.2 values (i0 = 43 A, h0 = 0.01 m, R0 = 1 Ω, KP = 0.01, KI = 6.0) for a
+    /// magnet carrying `p0` newtons, α = 0.5, one sub-step, linear interpolation, no
+    /// voltage bound.
+    pub const fn paper(p0: f64, dt: f64) -> Self {
+        Params {
+            i0: 43.0,
+            h0: 0.01,
+            r0: 1.0,
+            kp: 0.01,
+            ki: 6.0,
+            p0,
+            alpha: 0.5,
+            dt,
+            n_sub: 1,
+            interpolation: Interpolation::Linear,
+            v_max: f64::INFINITY,
+        }
+    }
+
+    /// One of the four maglev wheels of the 15 t car body of Fig. 1: p0 = 15000·9.81/4 N.
+    pub const fn paper_wheel(dt: f64) -> Self {
+        Self::paper(15_000.0 * GRAVITY / 4.0, dt)
+    }
+
+    /// Equilibrium value of the controlled variable, g0 = i0/h0 (A/m).
+    pub fn g0(&self) -> f64 {
+        self.i0 / self.h0
+    }
+
+    /// Magnet constant K0 = p0·h0²/i0² (N·m²/A², Eq. 7), so that K0·g0² = p0.
+    pub fn k0(&self) -> f64 {
+        self.p0 * self.h0 * self.h0 / (self.i0 * self.i0)
+    }
+
+    /// Base voltage V_b = R0·i0 (V): the coil voltage at equilibrium.
+    pub fn v_base(&self) -> f64 {
+        self.r0 * self.i0
+    }
+
+    /// Magnet force G = K0·g² (N, Eq. 1).
+    pub fn force(&self, g: f64) -> f64 {
+        self.k0() * g * g
+    }
+
+    /// Checks every parameter, naming the first bad one.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let positive = [
+            ("i0", self.i0),
+            ("h0", self.h0),
+            ("r0", self.r0),
+            ("p0", self.p0),
+            ("dt", self.dt),
+        ];
+        for (name, v) in positive {
+            if !v.is_finite() {
+                return Err(ParamError::NotFinite(name));
+            }
+            if v <= 0.0 {
+                return Err(ParamError::NotPositive(name));
+            }
+        }
+        for (name, v) in [("kp", self.kp), ("ki", self.ki), ("alpha", self.alpha)] {
+            if !v.is_finite() {
+                return Err(ParamError::NotFinite(name));
+            }
+            if v < 0.0 {
+                return Err(ParamError::Negative(name));
+            }
+        }
+        if self.alpha > 1.0 {
+            return Err(ParamError::AlphaOutOfRange);
+        }
+        if self.n_sub == 0 {
+            return Err(ParamError::NotPositive("n_sub"));
+        }
+        if self.v_max.is_nan() {
+            return Err(ParamError::NotFinite("v_max"));
+        }
+        if self.v_max <= 0.0 {
+            return Err(ParamError::NotPositive("v_max"));
+        }
+        Ok(())
+    }
+
+    /// The per-unit run-time coefficients in f64, before conversion (see the module docs).
+    fn coefficients(&self) -> [(&'static str, f64); 7] {
+        let delta = self.dt / self.n_sub as f64;
+        let vb = self.v_base();
+        let g0 = self.g0();
+        let c = vb * delta / (2.0 * self.k0() * g0);
+        let kph = (self.kp + self.ki * delta / 2.0) * g0 / vb;
+        [
+            ("c", c),
+            ("kpd", (self.kp + self.ki * delta) * g0 / vb),
+            ("c*alpha", c * self.alpha),
+            ("c*alpha*(1+kph)", c * self.alpha * (1.0 + kph)),
+            ("kih", self.ki * g0 * delta / (2.0 * vb)),
+            ("kpv", self.kp * g0 / vb),
+            ("1/n_sub", 1.0 / self.n_sub as f64),
+        ]
+    }
+
+    /// Converts to the run-time type once, with the default tolerance
+    /// [`DEFAULT_COEFFICIENT_TOLERANCE`].
+    pub fn compile<S: Scalar>(&self) -> Result<Levitation<S>, ParamError> {
+        self.compile_with_tolerance(DEFAULT_COEFFICIENT_TOLERANCE)
+    }
+
+    /// Converts to the run-time type once. Each run-time coefficient must be representable
+    /// with a relative error of at most `tolerance`; otherwise the type cannot carry this
+    /// configuration's sub-step increments and [`ParamError::Unrepresentable`] names the
+    /// coefficient (typically `c` for fixed point with many sub-steps).
+    pub fn compile_with_tolerance<S: Scalar>(
+        &self,
+        tolerance: f64,
+    ) -> Result<Levitation<S>, ParamError> {
+        self.validate()?;
+        let coeffs = self.coefficients();
+        let mut out = [S::ZERO; 7];
+        for (slot, (name, value)) in out.iter_mut().zip(coeffs.iter()) {
+            let mut ov = false;
+            let s = S::from_f64(*value, &mut ov);
+            let rel = if *value == 0.0 {
+                0.0
+            } else {
+                ((s.to_f64() - value) / value).abs()
+            };
+            if ov || rel.is_nan() || rel > tolerance {
+                return Err(ParamError::Unrepresentable {
+                    name,
+                    value: *value,
+                    relative_error: rel,
+                    scalar: S::NAME,
+                });
+            }
+            *slot = s;
+        }
+        let [c, kpd, ca, ca1, kih, kpv, inv_n] = out;
+        // The voltage bound in per unit, capped inside the type's range so that the
+        // saturated branch itself cannot overflow.
+        let v_max_pu = (self.v_max / self.v_base()).min(0.9 * S::MAX_ABS);
+        let mut ov = false;
+        let v_max = S::from_f64(v_max_pu, &mut ov);
+        let half = S::from_f64(0.5, &mut ov);
+        // Largest per-unit gap accepted: 100·h0, or what the type holds with headroom.
+        let h_max = S::from_f64((0.45 * S::MAX_ABS).min(100.0), &mut ov);
+        if ov {
+            return Err(ParamError::Unrepresentable {
+                name: "v_max",
+                value: v_max_pu,
+                relative_error: f64::INFINITY,
+                scalar: S::NAME,
+            });
+        }
+        Ok(Levitation {
+            params: *self,
+            c,
+            kpd,
+            ca,
+            ca1,
+            kih,
+            kpv,
+            inv_n,
+            v_max,
+            half,
+            h_max,
+        })
+    }
+}
+
+/// Largest relative error accepted when converting a run-time coefficient to its type.
+pub const DEFAULT_COEFFICIENT_TOLERANCE: f64 = 1e-4;
+
+/// A parameter that cannot be used, by name.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ParamError {
+    /// NaN or infinite.
+    NotFinite(&'static str),
+    /// Must be > 0.
+    NotPositive(&'static str),
+    /// Must be ≥ 0.
+    Negative(&'static str),
+    /// α outside [0, 1].
+    AlphaOutOfRange,
+    /// The run-time type cannot represent a coefficient accurately enough.
+    Unrepresentable {
+        name: &'static str,
+        value: f64,
+        relative_error: f64,
+        scalar: &'static str,
+    },
+}
+
+impl core::fmt::Display for ParamError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ParamError::NotFinite(n) => write!(f, "parameter {n} is not a finite number"),
+            ParamError::NotPositive(n) => write!(f, "parameter {n} must be positive"),
+            ParamError::Negative(n) => write!(f, "parameter {n} must not be negative"),
+            ParamError::AlphaOutOfRange => write!(f, "parameter alpha must lie in [0, 1]"),
+            ParamError::Unrepresentable {
+                name,
+                value,
+                relative_error,
+                scalar,
+            } => write!(
+                f,
+                "{scalar} cannot represent the sub-step coefficient {name} = {value:e} \
+                 (relative error {relative_error:.1e}); use fewer sub-steps, a longer step \
+                 or a wider type"
+            ),
+        }
+    }
+}
+
+/// Events raised by an update (bit set; several may be raised at once).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Status(pub u8);
+
+impl Status {
+    /// The gap reached zero or below: the magnet touches the rail.
+    pub const COLLISION: Status = Status(1);
+    /// The supply voltage bound was active during the step.
+    pub const VOLTAGE_SATURATED: Status = Status(2);
+    /// The current would have gone negative and was held at zero.
+    pub const CURRENT_CLAMPED: Status = Status(4);
+    /// Arithmetic saturated at the type's range: the numbers of this step are not trustworthy.
+    pub const OVERFLOW: Status = Status(8);
+    /// The gap input was NaN or beyond the accepted range; state held or gap clamped.
+    pub const INVALID_INPUT: Status = Status(16);
+
+    /// No event.
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+    /// Whether every event of `other` is raised here.
+    pub const fn contains(self, other: Status) -> bool {
+        self.0 & other.0 == other.0
+    }
+    /// Union of two sets of events.
+    pub const fn union(self, other: Status) -> Status {
+        Status(self.0 | other.0)
+    }
+    fn raise_if(&mut self, cond: bool, what: Status) {
+        if cond {
+            self.0 |= what.0;
+        }
+    }
+}
+
+/// Controller state: per-unit deviations from equilibrium (see the module docs).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct State<S> {
+    /// `g/g0 − 1`.
+    pub x: S,
+    /// `KI·e_a/(R0·i0) − 1`.
+    pub y: S,
+    /// `h/h0 − 1` at the end of the last step.
+    pub eta: S,
+    /// `h/h0 − 1` one outer step earlier (for parabolic interpolation).
+    pub eta_prev: S,
+    /// Per-unit voltage at the end of the last step.
+    pub v: S,
+}
+
+/// One update's result, per unit (multiply by `g0`, `p0`, `i0`, `V_b` for SI; see [`Levitation::to_si`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Output<S> {
+    /// `g/g0`.
+    pub g: S,
+    /// `G/p0 = (g/g0)²` (Eq. 1).
+    pub force: S,
+    /// `i/i0 = (g/g0)·(h/h0)`.
+    pub current: S,
+    /// `V/(R0·i0)`.
+    pub voltage: S,
+    /// Events of this step.
+    pub status: Status,
+}
+
+/// The same output in SI units.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SiOutput {
+    /// g (A/m).
+    pub g: f64,
+    /// Magnet force G (N), upward on the magnet.
+    pub force: f64,
+    /// Coil current i (A).
+    pub current: f64,
+    /// Coil voltage V (V).
+    pub voltage: f64,
+    /// Events of this step.
+    pub status: Status,
+}
+
+/// A compiled controller: parameters converted once to the run-time type `S`.
+#[derive(Clone, Copy, Debug)]
+pub struct Levitation<S> {
+    params: Params,
+    c: S,
+    kpd: S,
+    ca: S,
+    ca1: S,
+    kih: S,
+    kpv: S,
+    inv_n: S,
+    v_max: S,
+    half: S,
+    h_max: S,
+}
+
+impl<S: Scalar> Levitation<S> {
+    /// The parameters this controller was compiled from.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// Per-unit gap `h/h0` of a gap in metres, in the run-time type (saturating, flagged).
+    pub fn gap_pu(&self, h: f64, overflow: &mut bool) -> S {
+        S::from_f64(h / self.params.h0, overflow)
+    }
+
+    /// The state at equilibrium (model.md §4): `g = g0`, `KI·e_a = R0·i0`, the gap taken to
+    /// have been `h` (m) until now.
+    pub fn initial_state(&self, h: f64) -> State<S> {
+        let mut ov = false;
+        let eta = self.gap_pu(h, &mut ov).ssub(S::ONE, &mut ov);
+        State {
+            x: S::ZERO,
+            y: S::ZERO,
+            eta,
+            eta_prev: eta,
+            v: S::ONE,
+        }
+    }
+
+    /// Output describing a state (no step taken): used for the row at t = 0.
+    pub fn output(&self, st: &State<S>) -> Output<S> {
+        let mut ov = false;
+        let g = S::ONE.sadd(st.x, &mut ov);
+        let h = S::ONE.sadd(st.eta, &mut ov);
+        let mut status = Status::default();
+        status.raise_if(ov, Status::OVERFLOW);
+        Output {
+            g,
+            force: g.smul(g, &mut ov),
+            current: g.smul(h, &mut ov),
+            voltage: st.v,
+            status,
+        }
+    }
+
+    /// Converts an output to SI units (f64).
+    pub fn to_si(&self, o: &Output<S>) -> SiOutput {
+        let p = &self.params;
+        SiOutput {
+            g: o.g.to_f64() * p.g0(),
+            force: o.force.to_f64() * p.p0,
+            current: o.current.to_f64() * p.i0,
+            voltage: o.voltage.to_f64() * p.v_base(),
+            status: o.status,
+        }
+    }
+
+    /// One outer step Δt: the gap moves from the state's last gap to `h_next` (per unit,
+    /// `h/h0`) and Eq. 14 runs `n_sub` times with the gap interpolated (model.md §4). Never
+    /// panics; every anomaly is reported in [`Output::status`].
+    pub fn update(&self, st: &mut State<S>, h_next: S) -> Output<S> {
+        let mut ov = false;
+        let mut status = Status::default();
+        // NaN (floats only) is the one input that cannot be clamped meaningfully.
+        if is_nan(h_next) {
+            let mut out = self.output(st);
+            out.status = out.status.union(Status::INVALID_INPUT);
+            return out;
+        }
+        let h1 = if h_next <= S::ZERO {
+            status = status.union(Status::COLLISION);
+            S::ZERO
+        } else if h_next > self.h_max {
+            status = status.union(Status::INVALID_INPUT);
+            self.h_max
+        } else {
+            h_next
+        };
+        let eta1 = h1.ssub(S::ONE, &mut ov);
+        let eta0 = st.eta;
+        // Interpolation of η inside the step: η(s) = η0 + s·b1 + s²·b2, s = k/n.
+        let (b1, b2) = match self.params.interpolation {
+            Interpolation::Linear => (eta1.ssub(eta0, &mut ov), S::ZERO),
+            Interpolation::Parabolic => {
+                let m = st.eta_prev;
+                let b1 = eta1.ssub(m, &mut ov).smul(self.half, &mut ov);
+                let two_eta0 = eta0.sadd(eta0, &mut ov);
+                let b2 = eta1
+                    .ssub(two_eta0, &mut ov)
+                    .sadd(m, &mut ov)
+                    .smul(self.half, &mut ov);
+                (b1, b2)
+            }
+        };
+        let n = self.params.n_sub;
+        let mut s = S::ZERO;
+        let mut x = st.x;
+        let mut y = st.y;
+        let mut v = st.v;
+        for k in 1..=n {
+            let eta = if k == n {
+                eta1
+            } else {
+                s = s.sadd(self.inv_n, &mut ov);
+                let quad = s.smul(b2, &mut ov);
+                eta0.sadd(s.smul(b1.sadd(quad, &mut ov), &mut ov), &mut ov)
+            };
+            let (x1, y1, v1, sub) = self.substep(x, y, eta, &mut ov);
+            status = status.union(sub);
+            x = x1;
+            y = y1;
+            v = v1;
+        }
+        st.x = x;
+        st.y = y;
+        st.v = v;
+        st.eta_prev = eta0;
+        st.eta = eta1;
+        let mut out = self.output(st);
+        status.raise_if(ov, Status::OVERFLOW);
+        out.status = out.status.union(status);
+        out
+    }
+
+    /// One application of Eq. 14 over a sub-step ending at gap deviation `eta`.
+    #[inline]
+    fn substep(&self, x: S, y: S, eta: S, ov: &mut bool) -> (S, S, S, Status) {
+        let mut status = Status::default();
+        let one = S::ONE;
+        // N = y − η − x·(1 + kpd + η)
+        let factor = one.sadd(self.kpd, ov).sadd(eta, ov);
+        let num = y.ssub(eta, ov).ssub(x.smul(factor, ov), ov);
+        // 1 + cα(1 + kph) + cα·η
+        let den = one.sadd(self.ca1, ov).sadd(self.ca.smul(eta, ov), ov);
+        let mut x1 = x.sadd(self.c.smul(num, ov).sdiv(den, ov), ov);
+        let x_floor = one.sneg(ov);
+        if x1 < x_floor {
+            x1 = x_floor;
+            status = status.union(Status::CURRENT_CLAMPED);
+        }
+        // Trapezoidal integral (Eq. 12) and the voltage at the end of the sub-step (Eq. 11).
+        let y1 = y.ssub(self.kih.smul(x.sadd(x1, ov), ov), ov);
+        let v1 = one.sadd(y1, ov).ssub(self.kpv.smul(x1, ov), ov);
+        let v_lim = self.v_max;
+        if v1 > v_lim || v1 < v_lim.sneg(ov) {
+            status = status.union(Status::VOLTAGE_SATURATED);
+            let vs = if v1 > v_lim { v_lim } else { v_lim.sneg(ov) };
+            // Coil alone (Eq. 9, α-method) at V = vs: Δx = c(vs − ĥĝ)/(1 + cαĥ); e_a frozen.
+            let h = one.sadd(eta, ov);
+            let g = one.sadd(x, ov);
+            let num = vs.ssub(h.smul(g, ov), ov);
+            let den = one.sadd(self.ca.smul(h, ov), ov);
+            let mut xs = x.sadd(self.c.smul(num, ov).sdiv(den, ov), ov);
+            if xs < x_floor {
+                xs = x_floor;
+                status = status.union(Status::CURRENT_CLAMPED);
+            }
+            return (xs, y, vs, status);
+        }
+        (x1, y1, v1, status)
+    }
+}
+
+/// NaN is the only value not equal to itself (fixed point has none).
+#[allow(clippy::eq_op)]
+fn is_nan<S: PartialEq>(x: S) -> bool {
+    x != x
+}
+
+#[cfg(test)]
+mod tests;
