@@ -295,3 +295,98 @@ impl Guideway for ModalGuideway {
         self.committed.clone_from(&self.trial);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn span() -> ModalGuideway {
+        ModalGuideway::new(BeamSection::paper_4_2(), 25.0, 12, 1e-3).unwrap()
+    }
+
+    fn load(x: f64) -> PointLoad {
+        PointLoad {
+            x,
+            ey: 1.5,
+            ez: 0.6,
+            fy: 1e3,
+            fz: -3e4,
+        }
+    }
+
+    #[test]
+    fn harmonics_match_direct_evaluation() {
+        let (l, x) = (25.0, 7.3);
+        for (i, (s, c)) in harmonics(l, x, 200).enumerate() {
+            let a = (i + 1) as f64 * core::f64::consts::PI * x / l;
+            assert!(
+                (s - a.sin()).abs() < 1e-12 && (c - a.cos()).abs() < 1e-12,
+                "n = {}",
+                i + 1
+            );
+        }
+    }
+
+    /// Each solve_step restarts from the committed state: repeating it with other loads
+    /// first must not change the result (the Newton–Raphson protocol of the trait).
+    #[test]
+    fn solve_step_restarts_from_committed_state() {
+        let mut a = span();
+        let mut b = span();
+        for step in 0..5 {
+            let x = 2.0 * step as f64 + 5.0;
+            a.solve_step(&[load(x + 3.0)]);
+            a.solve_step(&[load(x - 1.0), load(x)]);
+            a.solve_step(&[load(x)]);
+            b.solve_step(&[load(x)]);
+            a.commit();
+            b.commit();
+        }
+        for x in [3.0, 12.5, 20.0] {
+            assert_eq!(a.section_at(x), b.section_at(x));
+            assert_eq!(a.rotations_at(x), b.rotations_at(x));
+        }
+    }
+
+    /// Loads off the span act on nothing, and the span reads zero outside [0, L].
+    #[test]
+    fn off_span_loads_and_points_are_ignored() {
+        let mut g = span();
+        g.solve_step(&[load(-0.5), load(25.5)]);
+        assert_eq!(g.section_at(12.5), SectionMotion::default());
+        g.solve_step(&[load(10.0)]);
+        assert!(g.section_at(12.5).z < 0.0);
+        assert_eq!(g.section_at(-1e-9), SectionMotion::default());
+        assert_eq!(g.section_at(25.0 + 1e-9), SectionMotion::default());
+        assert_eq!(g.motion_at(30.0, 1.5, 0.6), PointMotion::default());
+    }
+
+    #[test]
+    fn bridge_must_have_one_span_and_parameters_are_checked() {
+        let section = BeamSection::paper_4_2();
+        let bridge = |spans: Vec<f64>| Bridge {
+            section: section.clone(),
+            spans,
+        };
+        assert_eq!(
+            ModalGuideway::from_bridge(&bridge(vec![]), 10, 1e-3).unwrap_err(),
+            ModalError::SpanCount(0)
+        );
+        assert_eq!(
+            ModalGuideway::from_bridge(&bridge(vec![25.0, 25.0]), 10, 1e-3).unwrap_err(),
+            ModalError::SpanCount(2)
+        );
+        assert!(ModalGuideway::from_bridge(&bridge(vec![25.0]), 10, 1e-3).is_ok());
+        assert!(ModalGuideway::new(section.clone(), 25.0, 0, 1e-3).is_err());
+        assert!(ModalGuideway::new(section.clone(), 25.0, 10, 0.0).is_err());
+        assert!(ModalGuideway::new(section.clone(), -1.0, 10, 1e-3).is_err());
+        let no_shear = BeamSection {
+            shear_area_z: 0.0,
+            ..section
+        };
+        assert_eq!(
+            ModalGuideway::new(no_shear, 25.0, 10, 1e-3).unwrap_err(),
+            ModalError::InvalidParameter("shear_area_z")
+        );
+    }
+}
