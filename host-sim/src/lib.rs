@@ -2,3 +2,8 @@
 pub mod cli;
 pub mod guideway;
 pub mod modal;
+pub mod newmark;
+pub mod output;
+pub mod scenario;
+pub mod simulation;
+pub mod vehicle;

@@ -20,6 +20,8 @@ enum Command {
     Control(cli::control::Args),
     /// Generate a rail irregularity profile (Eq. 3-5, Table 1); CSV to stdout.
     Irregularity(cli::irregularity::Args),
+    /// Run one scenario (a vehicle passage over the guideway); CSV, JSON and SVG into --out.
+    Run(cli::run::Args),
 }
 
 fn main() {
@@ -27,6 +29,7 @@ fn main() {
     let result = match args.command {
         Command::Control(a) => cli::control::run(a),
         Command::Irregularity(a) => cli::irregularity::run(a),
+        Command::Run(a) => cli::run::run(a),
     };
     if let Err(e) = result {
         eprintln!("maglev: error: {e}");

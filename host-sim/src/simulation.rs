@@ -33,7 +33,10 @@ pub struct Profiles {
 impl Profiles {
     /// A perfectly smooth rail.
     pub fn smooth() -> Self {
-        Profiles { y: Box::new(|_| 0.0), z: Box::new(|_| 0.0) }
+        Profiles {
+            y: Box::new(|_| 0.0),
+            z: Box::new(|_| 0.0),
+        }
     }
 }
 
@@ -92,7 +95,10 @@ pub fn simulate<G: Guideway>(
     }
     let steps = (s.t_end / dt).round() as usize;
     let mut records = Vec::with_capacity(steps + 1);
-    records.push(Record { midspan: guideway.section_at(s.midspan_x), ..Record::default() });
+    records.push(Record {
+        midspan: guideway.section_at(s.midspan_x),
+        ..Record::default()
+    });
     let mut unconverged = 0;
     match load {
         Load::MovingForce { force, ey, ez } => {
@@ -100,7 +106,13 @@ pub fn simulate<G: Guideway>(
             for n in 1..=steps {
                 let t = n as f64 * dt;
                 let x = s.speed * t;
-                guideway.solve_step(&[PointLoad { x, ey: *ey, ez: *ez, fy: 0.0, fz: -force }]);
+                guideway.solve_step(&[PointLoad {
+                    x,
+                    ey: *ey,
+                    ez: *ez,
+                    fy: 0.0,
+                    fz: -force,
+                }]);
                 guideway.commit();
                 let m = guideway.motion_at(x, *ey, *ez);
                 records.push(Record {
@@ -163,7 +175,7 @@ pub fn simulate<G: Guideway>(
                 };
                 let mut current = gaps(&veh, guideway, true);
                 let mut iterations = 0;
-                let mut status = Status::default();
+                let mut status;
                 loop {
                     iterations += 1;
                     trial.clear();
@@ -185,7 +197,13 @@ pub fn simulate<G: Guideway>(
                         let (gz, gy) = forces[i];
                         f[w.dof_z] = gz - v.p0[i];
                         f[w.dof_y] = gy;
-                        loads[i] = PointLoad { x: xs[i], ey: w.ey, ez: w.ez, fy: -gy, fz: -gz };
+                        loads[i] = PointLoad {
+                            x: xs[i],
+                            ey: w.ey,
+                            ez: w.ez,
+                            fy: -gy,
+                            fz: -gz,
+                        };
                     }
                     guideway.solve_step(&loads);
                     veh.solve(&f);
@@ -227,5 +245,8 @@ pub fn simulate<G: Guideway>(
             }
         }
     }
-    Ok(Outcome { records, unconverged_steps: unconverged })
+    Ok(Outcome {
+        records,
+        unconverged_steps: unconverged,
+    })
 }

@@ -94,11 +94,27 @@ pub enum Direction {
 /// and a slave point of the body at offset Δ = master − slave (Eq. 18). For Z:
 /// S = [1 at node, −1 at body w, −D1 at θx, −D2 at θy] with (D1, D2) = (−ΔY, ΔX); for Y:
 /// (D1, D2) = (ΔZ, −ΔX) on (θx, θz). The slave point moves as master + θ × (slave − master).
-pub fn add_link_spring(mat: &mut DMatrix<f64>, s: f64, dir: Direction, node_dof: usize, delta: [f64; 3]) {
+pub fn add_link_spring(
+    mat: &mut DMatrix<f64>,
+    s: f64,
+    dir: Direction,
+    node_dof: usize,
+    delta: [f64; 3],
+) {
     let [dx, dy, dz] = delta;
     let entries: [(usize, f64); 4] = match dir {
-        Direction::Z => [(node_dof, 1.0), (BODY_W, -1.0), (BODY_RX, dy), (BODY_RY, -dx)],
-        Direction::Y => [(node_dof, 1.0), (BODY_V, -1.0), (BODY_RX, -dz), (BODY_RZ, dx)],
+        Direction::Z => [
+            (node_dof, 1.0),
+            (BODY_W, -1.0),
+            (BODY_RX, dy),
+            (BODY_RY, -dx),
+        ],
+        Direction::Y => [
+            (node_dof, 1.0),
+            (BODY_V, -1.0),
+            (BODY_RX, -dz),
+            (BODY_RZ, dx),
+        ],
     };
     for &(i, si) in &entries {
         for &(j, sj) in &entries {
@@ -149,7 +165,13 @@ impl VehicleModel {
             });
         }
         let p0 = vec![p.body_mass * gravity / 4.0; 4];
-        VehicleModel { m, c, k, wheels, p0 }
+        VehicleModel {
+            m,
+            c,
+            k,
+            wheels,
+            p0,
+        }
     }
 }
 
@@ -186,7 +208,10 @@ mod tests {
     #[test]
     fn heave_frequency_of_the_suspension() {
         // Body on four springs, massless wheels held (rigid rail): ω² = 4k/m.
-        let p = Fig1 { wheel_mass: 0.0, ..Fig1::default() };
+        let p = Fig1 {
+            wheel_mass: 0.0,
+            ..Fig1::default()
+        };
         let v = VehicleModel::fig1(&p, 9.81);
         let mut u = nalgebra::DVector::zeros(13);
         u[BODY_W] = 1.0;

@@ -1,0 +1,444 @@
+//! Scenarios: TOML files whose every key names its unit, bundled ones by name, `--set`
+//! overrides. Conversion to SI happens here, once; the solvers never see kN or tonnes.
+
+use crate::guideway::{BeamSection, Bridge};
+use crate::vehicle::Fig1;
+use maglev_core::{Interpolation, Params};
+use serde::Deserialize;
+
+/// Bundled scenarios: (name, TOML text).
+pub const BUNDLED: [(&str, &str); 2] = [
+    ("paper-4.2", include_str!("../scenarios/paper-4.2.toml")),
+    (
+        "moving-force",
+        include_str!("../scenarios/moving-force.toml"),
+    ),
+];
+
+/// Short `--set` keys and the scenario key each stands for.
+pub const SHORT_KEYS: [(&str, &str); 9] = [
+    ("speed", "run.speed_m_per_s"),
+    ("model", "run.model"),
+    ("elements", "run.elements_per_span"),
+    ("modes", "run.modes"),
+    ("dt", "run.dt_s"),
+    ("t_end", "run.t_end_s"),
+    ("nsub", "controller.nsub"),
+    ("alpha", "controller.alpha"),
+    ("seed", "irregularity.seed"),
+];
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct RunSection {
+    pub model: String,
+    pub speed_m_per_s: f64,
+    pub dt_s: f64,
+    #[serde(default = "default_elements")]
+    pub elements_per_span: usize,
+    #[serde(default = "default_modes")]
+    pub modes: usize,
+    pub t_end_s: Option<f64>,
+    #[serde(default = "default_tolerance")]
+    pub tolerance_m: f64,
+    #[serde(default = "default_max_iterations")]
+    pub max_iterations: u32,
+}
+fn default_elements() -> usize {
+    20
+}
+fn default_modes() -> usize {
+    crate::modal::DEFAULT_MODES
+}
+fn default_tolerance() -> f64 {
+    1e-9
+}
+fn default_max_iterations() -> u32 {
+    50
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct BridgeSection {
+    pub spans_m: Vec<f64>,
+    pub youngs_modulus_kN_per_m2: f64,
+    pub shear_modulus_kN_per_m2: f64,
+    pub area_m2: f64,
+    pub shear_area_y_m2: f64,
+    pub shear_area_z_m2: f64,
+    pub iy_m4: f64,
+    pub iz_m4: f64,
+    pub torsion_constant_m4: f64,
+    pub mass_t_per_m: f64,
+    pub polar_mass_t_m2_per_m: Option<f64>,
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields, tag = "kind", rename_all = "kebab-case")]
+#[allow(non_snake_case)]
+pub enum VehicleSection {
+    Fig1 {
+        body_mass_t: f64,
+        jx_t_m2: f64,
+        jy_t_m2: f64,
+        jz_t_m2: f64,
+        spring_kN_per_m: f64,
+        damper_kN_s_per_m: f64,
+        half_length_m: f64,
+        half_width_m: f64,
+        offset_y_m: f64,
+        target_height_m: f64,
+        body_height_m: f64,
+        wheel_mass_kg: f64,
+    },
+    MovingForce {
+        force_kN: f64,
+        offset_y_m: f64,
+        offset_z_m: f64,
+    },
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct ControllerSection {
+    pub i0_A: f64,
+    pub h0_m: f64,
+    pub r0_ohm: f64,
+    pub kp_V_m_per_A: f64,
+    pub ki_V_m_per_A_s: f64,
+    pub alpha: f64,
+    pub nsub: u32,
+    pub interp: String,
+    pub vmax_V: f64,
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct IrregularitySection {
+    pub enabled: bool,
+    pub seed: u64,
+}
+
+/// A scenario as written (units in the key names).
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    pub run: RunSection,
+    pub bridge: BridgeSection,
+    pub vehicle: VehicleSection,
+    pub controller: Option<ControllerSection>,
+    pub irregularity: Option<IrregularitySection>,
+}
+
+/// Which guideway model runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Model {
+    Fe,
+    Modal,
+}
+
+/// Loads a scenario by bundled name or path, applies `key=value` overrides, validates.
+pub fn load(name_or_path: &str, sets: &[String]) -> Result<Scenario, String> {
+    let text = match BUNDLED.iter().find(|(n, _)| *n == name_or_path) {
+        Some((_, t)) => t.to_string(),
+        None => std::fs::read_to_string(name_or_path).map_err(|e| {
+            let names: Vec<&str> = BUNDLED.iter().map(|(n, _)| *n).collect();
+            format!(
+                "scenario `{name_or_path}` is neither a bundled name ({}) nor a readable file: {e}",
+                names.join(", ")
+            )
+        })?,
+    };
+    parse(&text, name_or_path, sets)
+}
+
+/// Parses scenario text with overrides.
+pub fn parse(text: &str, name: &str, sets: &[String]) -> Result<Scenario, String> {
+    let mut table: toml::Table = toml::from_str(text)
+        .map_err(|e| format!("scenario {name}: {}", one_line(&e.to_string())))?;
+    for set in sets {
+        apply_set(&mut table, set)?;
+    }
+    let sc: Scenario = table
+        .try_into()
+        .map_err(|e: toml::de::Error| format!("scenario {name}: {}", one_line(&e.to_string())))?;
+    sc.validate()?;
+    Ok(sc)
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+fn apply_set(table: &mut toml::Table, set: &str) -> Result<(), String> {
+    let (key, value) = set
+        .split_once('=')
+        .ok_or_else(|| format!("--set `{set}`: expected key=value"))?;
+    let key = key.trim();
+    let full = SHORT_KEYS
+        .iter()
+        .find(|(s, _)| *s == key)
+        .map(|(_, f)| *f)
+        .unwrap_or(key);
+    let (section, field) = full.split_once('.').ok_or_else(|| {
+        let shorts: Vec<&str> = SHORT_KEYS.iter().map(|(s, _)| *s).collect();
+        format!(
+            "--set: unknown key `{key}` (use one of {} or section.key)",
+            shorts.join(", ")
+        )
+    })?;
+    let value = value.trim();
+    // A TOML value if it parses as one (numbers, booleans, inf), else a bare string.
+    let parsed: toml::Value = toml::from_str::<toml::Table>(&format!("v = {value}"))
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| toml::Value::String(value.to_string()));
+    let sec = table
+        .entry(section.to_string())
+        .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+    let sec = sec
+        .as_table_mut()
+        .ok_or_else(|| format!("--set: `{section}` is not a section"))?;
+    // Integers given where floats are expected (speed=100) are fine for serde; floats given
+    // for integers are not, which is the error we want.
+    sec.insert(field.to_string(), parsed);
+    Ok(())
+}
+
+fn positive(name: &str, v: f64) -> Result<(), String> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(format!("{name} must be a positive number, got {v}"))
+    }
+}
+
+impl Scenario {
+    fn validate(&self) -> Result<(), String> {
+        let r = &self.run;
+        self.model()?;
+        positive("run.speed_m_per_s", r.speed_m_per_s)?;
+        positive("run.dt_s", r.dt_s)?;
+        positive("run.tolerance_m", r.tolerance_m)?;
+        if let Some(t) = r.t_end_s {
+            positive("run.t_end_s", t)?;
+        }
+        if r.elements_per_span == 0 {
+            return Err("run.elements_per_span must be at least 1".into());
+        }
+        if r.modes == 0 {
+            return Err("run.modes must be at least 1".into());
+        }
+        if r.max_iterations == 0 {
+            return Err("run.max_iterations must be at least 1".into());
+        }
+        let b = &self.bridge;
+        if b.spans_m.is_empty() {
+            return Err("bridge.spans_m must list at least one span".into());
+        }
+        for (i, &l) in b.spans_m.iter().enumerate() {
+            positive(&format!("bridge.spans_m[{i}]"), l)?;
+        }
+        for (n, v) in [
+            (
+                "bridge.youngs_modulus_kN_per_m2",
+                b.youngs_modulus_kN_per_m2,
+            ),
+            ("bridge.shear_modulus_kN_per_m2", b.shear_modulus_kN_per_m2),
+            ("bridge.area_m2", b.area_m2),
+            ("bridge.shear_area_y_m2", b.shear_area_y_m2),
+            ("bridge.shear_area_z_m2", b.shear_area_z_m2),
+            ("bridge.iy_m4", b.iy_m4),
+            ("bridge.iz_m4", b.iz_m4),
+            ("bridge.torsion_constant_m4", b.torsion_constant_m4),
+            ("bridge.mass_t_per_m", b.mass_t_per_m),
+        ] {
+            positive(n, v)?;
+        }
+        match &self.vehicle {
+            VehicleSection::Fig1 { .. } => {
+                if self.controller.is_none() {
+                    return Err("a fig1 vehicle needs a [controller] section".into());
+                }
+                self.fig1()?;
+                self.controller_params()?;
+            }
+            VehicleSection::MovingForce { force_kN, .. } => {
+                if !force_kN.is_finite() {
+                    return Err("vehicle.force_kN must be a finite number".into());
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The guideway model to run.
+    pub fn model(&self) -> Result<Model, String> {
+        match self.run.model.as_str() {
+            "fe" => Ok(Model::Fe),
+            "modal" => Ok(Model::Modal),
+            other => Err(format!("run.model must be `fe` or `modal`, got `{other}`")),
+        }
+    }
+
+    /// The bridge in SI.
+    pub fn bridge(&self) -> Bridge {
+        let b = &self.bridge;
+        Bridge {
+            section: BeamSection {
+                youngs_modulus: b.youngs_modulus_kN_per_m2 * 1e3,
+                shear_modulus: b.shear_modulus_kN_per_m2 * 1e3,
+                area: b.area_m2,
+                shear_area_y: b.shear_area_y_m2,
+                shear_area_z: b.shear_area_z_m2,
+                iy: b.iy_m4,
+                iz: b.iz_m4,
+                torsion_constant: b.torsion_constant_m4,
+                mass_per_length: b.mass_t_per_m * 1e3,
+                polar_mass: b.polar_mass_t_m2_per_m.map(|v| v * 1e3),
+            },
+            spans: b.spans_m.clone(),
+        }
+    }
+
+    /// The Fig. 1 vehicle in SI (error for other vehicle kinds).
+    pub fn fig1(&self) -> Result<Fig1, String> {
+        match &self.vehicle {
+            VehicleSection::Fig1 {
+                body_mass_t,
+                jx_t_m2,
+                jy_t_m2,
+                jz_t_m2,
+                spring_kN_per_m,
+                damper_kN_s_per_m,
+                half_length_m,
+                half_width_m,
+                offset_y_m,
+                target_height_m,
+                body_height_m,
+                wheel_mass_kg,
+            } => {
+                for (n, v) in [
+                    ("vehicle.body_mass_t", *body_mass_t),
+                    ("vehicle.jx_t_m2", *jx_t_m2),
+                    ("vehicle.jy_t_m2", *jy_t_m2),
+                    ("vehicle.jz_t_m2", *jz_t_m2),
+                    ("vehicle.spring_kN_per_m", *spring_kN_per_m),
+                    ("vehicle.damper_kN_s_per_m", *damper_kN_s_per_m),
+                    ("vehicle.half_length_m", *half_length_m),
+                ] {
+                    positive(n, v)?;
+                }
+                if !(*wheel_mass_kg >= 0.0 && wheel_mass_kg.is_finite()) {
+                    return Err("vehicle.wheel_mass_kg must be zero or positive".into());
+                }
+                Ok(Fig1 {
+                    body_mass: body_mass_t * 1e3,
+                    jx: jx_t_m2 * 1e3,
+                    jy: jy_t_m2 * 1e3,
+                    jz: jz_t_m2 * 1e3,
+                    k: spring_kN_per_m * 1e3,
+                    c: damper_kN_s_per_m * 1e3,
+                    half_length: *half_length_m,
+                    half_width: *half_width_m,
+                    offset_y: *offset_y_m,
+                    target_height: *target_height_m,
+                    body_height: *body_height_m,
+                    wheel_mass: *wheel_mass_kg,
+                })
+            }
+            _ => Err("not a fig1 vehicle".into()),
+        }
+    }
+
+    /// The controller parameters in SI (p0 is set per wheel by the simulation).
+    pub fn controller_params(&self) -> Result<Params, String> {
+        let c = self
+            .controller
+            .as_ref()
+            .ok_or("the scenario has no [controller] section")?;
+        let interpolation = match c.interp.as_str() {
+            "linear" => Interpolation::Linear,
+            "parabolic" => Interpolation::Parabolic,
+            other => {
+                return Err(format!(
+                    "controller.interp must be `linear` or `parabolic`, got `{other}`"
+                ))
+            }
+        };
+        let p = Params {
+            i0: c.i0_A,
+            h0: c.h0_m,
+            r0: c.r0_ohm,
+            kp: c.kp_V_m_per_A,
+            ki: c.ki_V_m_per_A_s,
+            p0: 1.0,
+            alpha: c.alpha,
+            dt: self.run.dt_s,
+            n_sub: c.nsub,
+            interpolation,
+            v_max: c.vmax_V,
+        };
+        p.validate().map_err(|e| format!("controller: {e}"))?;
+        Ok(p)
+    }
+
+    /// Default end time: the last wheel leaves the bridge, plus 0.1 s.
+    pub fn t_end(&self) -> f64 {
+        if let Some(t) = self.run.t_end_s {
+            return t;
+        }
+        let length: f64 = self.bridge.spans_m.iter().sum();
+        let behind = match &self.vehicle {
+            VehicleSection::Fig1 { half_length_m, .. } => 2.0 * half_length_m,
+            VehicleSection::MovingForce { .. } => 0.0,
+        };
+        (length + behind) / self.run.speed_m_per_s + 0.1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bundled_scenarios_parse() {
+        for (name, _) in BUNDLED {
+            load(name, &[]).unwrap();
+        }
+    }
+
+    #[test]
+    fn set_overrides_and_errors_name_the_key() {
+        let s = load(
+            "paper-4.2",
+            &["speed=150".into(), "model=modal".into(), "dt=1e-5".into()],
+        )
+        .unwrap();
+        assert_eq!(s.run.speed_m_per_s, 150.0);
+        assert_eq!(s.model().unwrap(), Model::Modal);
+        let e = load("paper-4.2", &["colour=red".into()]).unwrap_err();
+        assert!(e.contains("colour"), "{e}");
+        let e = load("paper-4.2", &["run.sped=3".into()]).unwrap_err();
+        assert!(e.contains("sped"), "{e}");
+        let e = load("paper-4.2", &["speed=-3".into()]).unwrap_err();
+        assert!(e.contains("speed_m_per_s"), "{e}");
+        let e = load("paper-4.2", &["model=beam".into()]).unwrap_err();
+        assert!(e.contains("run.model"), "{e}");
+        let e = load("nonexistent-scenario", &[]).unwrap_err();
+        assert!(e.contains("paper-4.2"), "{e}");
+    }
+
+    #[test]
+    fn units_are_converted_at_the_edge() {
+        let s = load("paper-4.2", &[]).unwrap();
+        assert_eq!(s.bridge().section, BeamSection::paper_4_2());
+        let f = s.fig1().unwrap();
+        assert_eq!(f.body_mass, 15_000.0);
+        assert_eq!(f.jy, 950e3);
+        // (25 + 15)/100 + 0.1
+        assert!((s.t_end() - 0.5).abs() < 1e-12);
+    }
+}
