@@ -248,6 +248,8 @@ pub struct PsdParams {
     pub n: usize,
 }
 
+// Table 1 prints ω_u = 6.28 rad/m, not 2π: keep the paper's value.
+#[allow(clippy::approx_constant)]
 impl PsdParams {
     /// Table 1, Y direction.
     pub const TABLE1_Y: Self = Self {
@@ -549,6 +551,7 @@ fn fract_f64(v: f64) -> f64 {
 }
 
 #[cfg(test)]
+#[allow(clippy::approx_constant)] // 6.28 is Table 1's ω_u, not 2π
 mod tests {
     extern crate std;
     use super::*;

@@ -143,8 +143,8 @@ fn coherence(w: &[f64], m: usize, max_delta: usize) -> Vec<f64> {
 fn edof(m: usize, k: usize, rho0: &[f64], rho1: &[f64]) -> f64 {
     let pair_sum = |rho: &[f64]| -> f64 {
         let mut s = rho[0] * m as f64;
-        for d in 1..m.min(rho.len()) {
-            s += 2.0 * (m - d) as f64 * rho[d];
+        for (d, r) in rho.iter().enumerate().take(m).skip(1) {
+            s += 2.0 * (m - d) as f64 * r;
         }
         s
     };
@@ -206,14 +206,14 @@ fn fft_matches_naive_dft() {
         .collect();
     let mut y = x.clone();
     fft(&mut y);
-    for b in 0..n {
+    for (b, yb) in y.iter().enumerate() {
         let (mut re, mut im) = (0.0, 0.0);
         for (t, v) in x.iter().enumerate() {
             let ang = -2.0 * PI * (b * t) as f64 / n as f64;
             re += v.0 * ang.cos() - v.1 * ang.sin();
             im += v.0 * ang.sin() + v.1 * ang.cos();
         }
-        assert!((y[b].0 - re).abs() < 1e-12 && (y[b].1 - im).abs() < 1e-12);
+        assert!((yb.0 - re).abs() < 1e-12 && (yb.1 - im).abs() < 1e-12);
     }
 }
 
