@@ -2,6 +2,7 @@
 #![doc = include_str!("../README.md")]
 
 pub mod guidance;
+pub mod irregularity;
 pub mod levitation;
 pub mod scalar;
 mod trig;
