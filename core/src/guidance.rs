@@ -39,13 +39,13 @@ pub struct PairOutput<S> {
     pub status: Status,
 }
 
-/// Equilibrium state of both magnets at relative displacement `d` (m), as
-/// [`Levitation::initial_state`].
+/// Both magnets in equilibrium ([`Levitation::equilibrium_state`]) at relative lateral
+/// position `d = y_w − y_g + r_y` (m).
 pub fn initial_state<S: Scalar>(ctrl: &Levitation<S>, d: f64) -> PairState<S> {
     let h0 = ctrl.params().h0;
     PairState {
-        left: ctrl.initial_state(h0 + d),
-        right: ctrl.initial_state(h0 - d),
+        left: ctrl.equilibrium_state(h0 + d),
+        right: ctrl.equilibrium_state(h0 - d),
     }
 }
 

@@ -4,6 +4,7 @@ pub mod guideway;
 pub mod modal;
 pub mod newmark;
 pub mod output;
+pub mod profile;
 pub mod scenario;
 pub mod simulation;
 pub mod vehicle;

@@ -141,7 +141,7 @@ pub fn simulate<G: Guideway>(
                 let (gy, gz) = ((profiles.y)(w.x0), (profiles.z)(w.x0));
                 let h_init = p.h0 + gz;
                 ctl.push(WheelCtl {
-                    lev_state: lev.initial_state(h_init),
+                    lev_state: lev.equilibrium_state(h_init),
                     pair: guidance::initial_state(&lev, gy),
                     lev,
                 });

@@ -428,6 +428,18 @@ impl<S: Scalar> Levitation<S> {
         }
     }
 
+    /// The state in equilibrium *at gap `h`* (m): `g = g0` and the integral holding
+    /// `V = R0·h·g0`, so a constant gap `h` is held exactly. Equal to
+    /// [`Levitation::initial_state`] at `h = h0`; a vehicle that starts in static equilibrium
+    /// over an irregular rail (model.md §9) starts here.
+    pub fn equilibrium_state(&self, h: f64) -> State<S> {
+        let mut st = self.initial_state(h);
+        st.y = st.eta;
+        let mut ov = false;
+        st.v = S::ONE.sadd(st.eta, &mut ov);
+        st
+    }
+
     /// Output describing a state (no step taken): used for the row at t = 0.
     pub fn output(&self, st: &State<S>) -> Output<S> {
         let mut ov = false;

@@ -247,3 +247,16 @@ mod props {
         }
     }
 }
+
+#[test]
+fn equilibrium_state_holds_an_offset_gap_exactly() {
+    let p = paper(10, Interpolation::Parabolic);
+    let ctrl = p.compile::<f64>().unwrap();
+    let h = 0.0123;
+    let mut st = ctrl.equilibrium_state(h);
+    for _ in 0..100 {
+        let out = ctrl.update(&mut st, h / p.h0);
+        assert!((ctrl.to_si(&out).force - p.p0).abs() < 1e-9 * p.p0);
+        assert!((ctrl.to_si(&out).voltage - p.r0 * h * p.g0()).abs() < 1e-9);
+    }
+}

@@ -3,6 +3,8 @@
 use crate::guideway::{Bridge, Guideway};
 use crate::modal::ModalGuideway;
 use crate::output::{write_run, Summary};
+use crate::profile::Profile;
+use maglev_core::irregularity::Direction;
 use crate::scenario::{self, Model, Scenario, VehicleSection};
 use crate::simulation::{simulate, Load, Outcome, Profiles, Settings};
 use crate::vehicle::VehicleModel;
@@ -78,7 +80,14 @@ fn profiles_for(sc: &Scenario, load: &Load) -> Result<Profiles, String> {
     if !enabled || matches!(load, Load::MovingForce { .. }) {
         return Ok(Profiles::smooth());
     }
-    Err("irregularity profiles are not merged yet".into())
+    let seed = sc.irregularity.as_ref().map_or(0, |i| i.seed);
+    let Load::Vehicle(v) = load else { unreachable!("moving force handled above") };
+    let x0s = v.wheels.iter().map(|w| w.x0);
+    let x_min = x0s.clone().fold(f64::INFINITY, f64::min) - 1.0;
+    let x_max = x0s.fold(f64::NEG_INFINITY, f64::max) + sc.run.speed_m_per_s * sc.t_end() + 1.0;
+    let y = Profile::table1(Direction::Y, seed, x_min, x_max)?;
+    let z = Profile::table1(Direction::Z, seed, x_min, x_max)?;
+    Ok(Profiles { y: Box::new(move |x| y.at(x)), z: Box::new(move |x| z.at(x)) })
 }
 
 pub fn run(args: Args) -> Result<(), String> {
