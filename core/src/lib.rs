@@ -1,4 +1,5 @@
 #![no_std]
+pub mod gap;
 pub mod scalar;
 mod trig;
 pub use scalar::Scalar;

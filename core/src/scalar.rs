@@ -123,7 +123,11 @@ macro_rules! float_scalar {
             fn fract(self) -> Self {
                 let f = (self as f64 - libm::floor(self as f64)) as $t;
                 // `x - floor(x)` can round up to exactly 1.0 for tiny negative x.
-                if f >= 1.0 { 0.0 } else { f }
+                if f >= 1.0 {
+                    0.0
+                } else {
+                    f
+                }
             }
             #[inline]
             fn cos_turns(self, overflow: &mut bool) -> Self {
@@ -308,7 +312,12 @@ mod tests {
         let mut ov = false;
         for x in [0.0, 1.0, -1.0, 0.5, -2.75, 3.0e-3] {
             let s = S::from_f64(x, &mut ov);
-            assert!((s.to_f64() - x).abs() <= S::RESOLUTION * 4.0, "{} {}", S::NAME, x);
+            assert!(
+                (s.to_f64() - x).abs() <= S::RESOLUTION * 4.0,
+                "{} {}",
+                S::NAME,
+                x
+            );
         }
         assert!(!ov);
     }
@@ -369,8 +378,14 @@ mod tests {
         assert_eq!(lsb.sneg(&mut ov).smul(half, &mut ov).to_bits(), 0);
         let a = I4F28::from_f64(-1.234567, &mut ov);
         let b = I4F28::from_f64(0.987654, &mut ov);
-        assert!(((a.smul(b, &mut ov)).to_f64() - a.to_f64() * b.to_f64()).abs() <= 0.5 * I4F28::RESOLUTION);
-        assert!(((a.sdiv(b, &mut ov)).to_f64() - a.to_f64() / b.to_f64()).abs() <= 0.5 * I4F28::RESOLUTION + 1e-15);
+        assert!(
+            ((a.smul(b, &mut ov)).to_f64() - a.to_f64() * b.to_f64()).abs()
+                <= 0.5 * I4F28::RESOLUTION
+        );
+        assert!(
+            ((a.sdiv(b, &mut ov)).to_f64() - a.to_f64() / b.to_f64()).abs()
+                <= 0.5 * I4F28::RESOLUTION + 1e-15
+        );
         assert!(!ov);
     }
 
@@ -383,7 +398,14 @@ mod tests {
                 let c = S::from_f64(t, &mut ov).cos_turns(&mut ov).to_f64();
                 let tq = S::from_f64(t, &mut ov).to_f64();
                 let want = libm::cos(2.0 * core::f64::consts::PI * tq);
-                assert!((c - want).abs() <= tol, "{} t={} got {} want {}", S::NAME, t, c, want);
+                assert!(
+                    (c - want).abs() <= tol,
+                    "{} t={} got {} want {}",
+                    S::NAME,
+                    t,
+                    c,
+                    want
+                );
             }
             assert!(!ov);
         }

@@ -4,7 +4,11 @@ use clap::{Parser, Subcommand};
 use maglev_host_sim::cli;
 
 #[derive(Parser)]
-#[command(name = "maglev", version, about = "EMS maglev levitation control and guideway vibration (Ju, Ho & Leong 2012)")]
+#[command(
+    name = "maglev",
+    version,
+    about = "EMS maglev levitation control and guideway vibration (Ju, Ho & Leong 2012)"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
