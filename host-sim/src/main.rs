@@ -20,6 +20,8 @@ enum Command {
     Control(cli::control::Args),
     /// Generate a rail irregularity profile (Eq. 3-5, Table 1); CSV to stdout.
     Irregularity(cli::irregularity::Args),
+    /// Natural frequencies of the section 4.2 beam (FE, Timoshenko); JSON or CSV to stdout.
+    Modes(cli::modes::Args),
 }
 
 fn main() {
@@ -27,6 +29,7 @@ fn main() {
     let result = match args.command {
         Command::Control(a) => cli::control::run(a),
         Command::Irregularity(a) => cli::irregularity::run(a),
+        Command::Modes(a) => cli::modes::run(a),
     };
     if let Err(e) = result {
         eprintln!("maglev: error: {e}");
