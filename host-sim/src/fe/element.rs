@@ -6,7 +6,10 @@
 //! its stiffness is exact for a prismatic Timoshenko beam under nodal loads (Φ = 12 EI /
 //! (G A_s L²) per plane), so static nodal displacements carry no discretisation error, and with
 //! its consistent mass (translational plus rotary inertia, built here by Gauss quadrature of the
-//! same shape functions rather than transcribed) frequencies converge as h⁴. Axial and torsion
+//! same shape functions rather than transcribed) frequencies converge from above. Convergence
+//! is O(h⁴) for slender elements (Φ ≪ 1) but only O(h²) for shear-dominated ones (Φ ≫ 1, where
+//! the shape functions tend to linear): the §4.2 beam at 1.25 m elements has Φ ≈ 15, and the
+//! first bending frequency error measured 1.3e-4, 3.0e-5, 7.5e-6 at 10, 20, 40 elements. Axial and torsion
 //! use linear interpolation, the latter with the torsional mass per length
 //! [`BeamSection::polar_mass_per_length`].
 //!
