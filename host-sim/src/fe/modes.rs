@@ -127,14 +127,13 @@ pub fn natural_modes(model: &SpanModel) -> Result<Vec<Mode>, String> {
             let phi_b = lt
                 .solve_upper_triangular(&y)
                 .ok_or("singular mass factor")?;
+            // Kinetic-energy shares within the block (M has no entries outside it).
+            let mphi = &m * &phi_b;
+            let mut share = [0.0f64; 4];
             let mut phi = DVector::zeros(n);
             for (i, &g) in block.iter().enumerate() {
                 phi[g] = phi_b[i];
-            }
-            let mphi = &model.m * &phi;
-            let mut share = [0.0f64; 4];
-            for i in 0..n {
-                share[families[i] as usize] += phi[i] * mphi[i];
+                share[families[g] as usize] += phi_b[i] * mphi[i];
             }
             let best = (0..4).fold(0, |b, f| if share[f] > share[b] { f } else { b });
             let family = [
