@@ -1,6 +1,7 @@
 #![no_std]
 #![doc = include_str!("../README.md")]
 
+pub mod gap;
 pub mod guidance;
 pub mod irregularity;
 pub mod levitation;

@@ -1,5 +1,6 @@
 //! Host-side simulators: the guideway (FE and modal reference), vehicles, coupling, CLI.
 pub mod cli;
+pub mod fe;
 pub mod guideway;
 pub mod modal;
 pub mod newmark;

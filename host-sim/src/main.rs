@@ -22,6 +22,8 @@ enum Command {
     Irregularity(cli::irregularity::Args),
     /// Run one scenario (a vehicle passage over the guideway); CSV, JSON and SVG into --out.
     Run(cli::run::Args),
+    /// Natural frequencies of the section 4.2 beam (FE, Timoshenko); JSON or CSV to stdout.
+    Modes(cli::modes::Args),
 }
 
 fn main() {
@@ -30,6 +32,7 @@ fn main() {
         Command::Control(a) => cli::control::run(a),
         Command::Irregularity(a) => cli::irregularity::run(a),
         Command::Run(a) => cli::run::run(a),
+        Command::Modes(a) => cli::modes::run(a),
     };
     if let Err(e) = result {
         eprintln!("maglev: error: {e}");

@@ -25,7 +25,8 @@ impl Profile {
     pub fn table1(direction: Direction, seed: u64, x_min: f64, x_max: f64) -> Result<Self, String> {
         let params = PsdParams::table1(direction);
         let x0 = x_min - 2.0 * GRID;
-        let g = Irregularity::<f64>::with_origin(&params, direction, seed, x0).map_err(|e| e.to_string())?;
+        let g = Irregularity::<f64>::with_origin(&params, direction, seed, x0)
+            .map_err(|e| e.to_string())?;
         let n = ((x_max - x0) / GRID).ceil() as usize + 4;
         let mut r = vec![0.0; n];
         sweep::<()>(&g, GRID, n, |j, _x, v| {
@@ -63,7 +64,8 @@ mod tests {
     fn interpolated_profile_matches_the_direct_sum() {
         let seed = 7;
         let p = Profile::table1(Direction::Z, seed, -20.0, 60.0).unwrap();
-        let g = Irregularity::<f64>::new(&PsdParams::table1(Direction::Z), Direction::Z, seed).unwrap();
+        let g =
+            Irregularity::<f64>::new(&PsdParams::table1(Direction::Z), Direction::Z, seed).unwrap();
         let mut worst = 0.0f64;
         for k in 0..800 {
             let x = -19.0 + k as f64 * 0.0987;

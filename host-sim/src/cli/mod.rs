@@ -2,4 +2,5 @@
 //! errors are one line naming what is wrong.
 pub mod control;
 pub mod irregularity;
+pub mod modes;
 pub mod run;

@@ -1,13 +1,14 @@
 //! `maglev run SCENARIO [--set key=value]... [--out DIR]`: one passage, FE or modal guideway.
 
+use crate::fe::FeGuideway;
 use crate::guideway::{Bridge, Guideway};
 use crate::modal::ModalGuideway;
 use crate::output::{write_run, Summary};
 use crate::profile::Profile;
-use maglev_core::irregularity::Direction;
 use crate::scenario::{self, Model, Scenario, VehicleSection};
 use crate::simulation::{simulate, Load, Outcome, Profiles, Settings};
 use crate::vehicle::VehicleModel;
+use maglev_core::irregularity::Direction;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -71,8 +72,8 @@ pub fn execute(sc: &Scenario, progress: impl FnMut(f64)) -> Result<(Outcome, f64
     Ok((outcome, start.elapsed().as_secs_f64()))
 }
 
-fn fe_guideway(_bridge: &Bridge, _elements: usize, _dt: f64) -> Result<impl Guideway, String> {
-    Err::<ModalGuideway, _>("the FE guideway is not merged yet".to_string())
+fn fe_guideway(bridge: &Bridge, elements: usize, dt: f64) -> Result<impl Guideway, String> {
+    FeGuideway::new(bridge, elements, dt)
 }
 
 fn profiles_for(sc: &Scenario, load: &Load) -> Result<Profiles, String> {
@@ -81,13 +82,18 @@ fn profiles_for(sc: &Scenario, load: &Load) -> Result<Profiles, String> {
         return Ok(Profiles::smooth());
     }
     let seed = sc.irregularity.as_ref().map_or(0, |i| i.seed);
-    let Load::Vehicle(v) = load else { unreachable!("moving force handled above") };
+    let Load::Vehicle(v) = load else {
+        unreachable!("moving force handled above")
+    };
     let x0s = v.wheels.iter().map(|w| w.x0);
     let x_min = x0s.clone().fold(f64::INFINITY, f64::min) - 1.0;
     let x_max = x0s.fold(f64::NEG_INFINITY, f64::max) + sc.run.speed_m_per_s * sc.t_end() + 1.0;
     let y = Profile::table1(Direction::Y, seed, x_min, x_max)?;
     let z = Profile::table1(Direction::Z, seed, x_min, x_max)?;
-    Ok(Profiles { y: Box::new(move |x| y.at(x)), z: Box::new(move |x| z.at(x)) })
+    Ok(Profiles {
+        y: Box::new(move |x| y.at(x)),
+        z: Box::new(move |x| z.at(x)),
+    })
 }
 
 pub fn run(args: Args) -> Result<(), String> {

@@ -1,0 +1,220 @@
+//! One simply supported span: node layout, supports, assembled stiffness and mass on the free
+//! DOFs, load distribution (Eq. 15) and interpolation (Eq. 16).
+//!
+//! Why per span and dense: spans of a [`crate::guideway::Bridge`] are separate beams, simply
+//! supported at each end with their own end nodes, so the structure matrices are exactly
+//! block-diagonal over spans and each span is solved on its own. A span of 20 elements has
+//! 119 free DOFs; a dense Cholesky factor of that size costs ~0.6 Mflop once and ~14 kflop per
+//! solve, less than a banded or sparse solver's bookkeeping at this size, and stays exact.
+//! Spans of equal length share one model (see [`super::FeGuideway`]), so a long viaduct of
+//! equal spans factorises once.
+//!
+//! Supports (fork bearings): v, w and θx fixed at both ends, u fixed at the left end only,
+//! θy and θz free.
+
+use super::element;
+use crate::guideway::{BeamSection, PointMotion, SectionMotion};
+use maglev_core::gap::{dof, locate, ElementVector, WheelShape, DOFS_PER_NODE, ELEMENT_DOFS};
+use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+
+/// Family of a DOF, used to classify modes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum DofFamily {
+    /// Bending with displacement in Z (vertical; w, θy; uses Iy).
+    BendingZ,
+    /// Bending with displacement in Y (lateral; v, θz; uses Iz).
+    BendingY,
+    /// Torsion θx.
+    Torsion,
+    /// Axial u.
+    Axial,
+}
+
+impl DofFamily {
+    /// The family of DOF `d` within a node (see [`dof`]).
+    pub fn of(d: usize) -> Self {
+        match d {
+            dof::U => DofFamily::Axial,
+            dof::V | dof::RZ => DofFamily::BendingY,
+            dof::W | dof::RY => DofFamily::BendingZ,
+            _ => DofFamily::Torsion,
+        }
+    }
+}
+
+/// Assembled model of one span, in span-local X (0 at its left support).
+#[derive(Clone, Debug)]
+pub struct SpanModel {
+    /// Span length (m).
+    pub length: f64,
+    /// Node X coordinates from the left support (m), `elements + 1` of them.
+    pub nodes: Vec<f64>,
+    /// Full DOF index (`node * 6 + dof`) → free DOF index, `None` where supported.
+    free_index: Vec<Option<usize>>,
+    /// Free DOF index → full DOF index.
+    full_index: Vec<usize>,
+    /// Stiffness on the free DOFs.
+    pub k: DMatrix<f64>,
+    /// Consistent mass on the free DOFs.
+    pub m: DMatrix<f64>,
+}
+
+impl SpanModel {
+    /// Assemble `elements` equal Timoshenko elements over a span of `length`.
+    pub fn new(section: &BeamSection, length: f64, elements: usize) -> Result<Self, String> {
+        if elements == 0 {
+            return Err("a span needs at least 1 element".into());
+        }
+        if !(length.is_finite() && length > 0.0) {
+            return Err(format!(
+                "span length must be positive and finite, got {length}"
+            ));
+        }
+        let n_nodes = elements + 1;
+        let n_full = n_nodes * DOFS_PER_NODE;
+        let le = length / elements as f64;
+        let nodes: Vec<f64> = (0..n_nodes)
+            .map(|i| if i == elements { length } else { i as f64 * le })
+            .collect();
+        let last = elements * DOFS_PER_NODE;
+        let fixed = [
+            dof::U,
+            dof::V,
+            dof::W,
+            dof::RX,
+            last + dof::V,
+            last + dof::W,
+            last + dof::RX,
+        ];
+        let mut free_index = vec![None; n_full];
+        let mut full_index = Vec::with_capacity(n_full);
+        for (i, slot) in free_index.iter_mut().enumerate() {
+            if !fixed.contains(&i) {
+                *slot = Some(full_index.len());
+                full_index.push(i);
+            }
+        }
+        let n = full_index.len();
+        let ke = element::stiffness(section, le);
+        let me = element::mass(section, le);
+        let mut k = DMatrix::zeros(n, n);
+        let mut m = DMatrix::zeros(n, n);
+        for e in 0..elements {
+            let base = e * DOFS_PER_NODE;
+            for i in 0..ELEMENT_DOFS {
+                let Some(fi) = free_index[base + i] else {
+                    continue;
+                };
+                for j in 0..ELEMENT_DOFS {
+                    let Some(fj) = free_index[base + j] else {
+                        continue;
+                    };
+                    k[(fi, fj)] += ke[(i, j)];
+                    m[(fi, fj)] += me[(i, j)];
+                }
+            }
+        }
+        Ok(SpanModel {
+            length,
+            nodes,
+            free_index,
+            full_index,
+            k,
+            m,
+        })
+    }
+
+    /// Number of elements.
+    pub fn elements(&self) -> usize {
+        self.nodes.len() - 1
+    }
+
+    /// Number of free DOFs.
+    pub fn free_dofs(&self) -> usize {
+        self.full_index.len()
+    }
+
+    /// Free index of DOF `d` of node `node`, `None` if supported (or out of range).
+    pub fn free(&self, node: usize, d: usize) -> Option<usize> {
+        self.free_index
+            .get(node * DOFS_PER_NODE + d)
+            .copied()
+            .flatten()
+    }
+
+    /// Family of each free DOF.
+    pub fn families(&self) -> impl Iterator<Item = DofFamily> + '_ {
+        self.full_index
+            .iter()
+            .map(|&i| DofFamily::of(i % DOFS_PER_NODE))
+    }
+
+    /// Element `e`'s 12 DOFs gathered from a free-DOF vector (supported DOFs are zero).
+    pub fn gather(&self, d: &DVector<f64>, e: usize) -> ElementVector<f64> {
+        let base = e * DOFS_PER_NODE;
+        ElementVector::from_fn(|i, _| match self.free_index[base + i] {
+            Some(f) => d[f],
+            None => 0.0,
+        })
+    }
+
+    /// The wheel shape at span-local `x` with offset `(ey, ez)`: element index and rows.
+    /// `None` off the span.
+    pub fn shape_at(&self, x: f64, ey: f64, ez: f64) -> Option<(usize, WheelShape<f64>)> {
+        let at = locate(&self.nodes, x)?;
+        Some((at.element, WheelShape::new(at.x2, at.length, ey, ez)))
+    }
+
+    /// Add the nodal forces of a point force `(fy, fz)` at span-local `x`, offset `(ey, ez)`,
+    /// to the free-DOF load vector `f` (Eq. 15, `f = Nᵀ G`). Ignored off the span; the share
+    /// on supported DOFs goes to the supports.
+    pub fn add_point_force(
+        &self,
+        x: f64,
+        ey: f64,
+        ez: f64,
+        fy: f64,
+        fz: f64,
+        f: &mut DVector<f64>,
+    ) {
+        let Some((e, shape)) = self.shape_at(x, ey, ez) else {
+            return;
+        };
+        let fe = shape.nodal_forces(fy, fz);
+        let base = e * DOFS_PER_NODE;
+        for i in 0..ELEMENT_DOFS {
+            if let Some(fi) = self.free_index[base + i] {
+                f[fi] += fe[i];
+            }
+        }
+    }
+
+    /// Displacement of a point at span-local `x`, offset `(ey, ez)`, for free DOFs `d`
+    /// (Eq. 16 with the rigid-link rotation share). `None` off the span.
+    pub fn motion(&self, d: &DVector<f64>, x: f64, ey: f64, ez: f64) -> Option<PointMotion> {
+        let (e, s) = self.shape_at(x, ey, ez)?;
+        let de = self.gather(d, e);
+        Some(PointMotion {
+            y: s.y_at(&de),
+            z: s.z_at(&de),
+        })
+    }
+
+    /// Axis displacement at span-local `x` for free DOFs `d`. `None` off the span.
+    pub fn section(&self, d: &DVector<f64>, x: f64) -> Option<SectionMotion> {
+        let (e, s) = self.shape_at(x, 0.0, 0.0)?;
+        let de = self.gather(d, e);
+        Some(SectionMotion {
+            y: s.y_at(&de),
+            z: s.z_at(&de),
+            rx: s.rx_at(&de),
+        })
+    }
+
+    /// Cholesky factor of the stiffness (for static solves); fails if K is not positive
+    /// definite (it is, for a supported span with positive properties).
+    pub fn stiffness_factor(&self) -> Result<Cholesky<f64, Dyn>, String> {
+        Cholesky::new(self.k.clone())
+            .ok_or_else(|| "span stiffness is not positive definite".into())
+    }
+}
