@@ -24,6 +24,8 @@ enum Command {
     Run(cli::run::Args),
     /// Natural frequencies of the section 4.2 beam (FE, Timoshenko); JSON or CSV to stdout.
     Modes(cli::modes::Args),
+    /// The paper's validation (§4.3-4.5, Fig. 5): FE against the modal reference; report.md.
+    Validate(cli::validate::Args),
 }
 
 fn main() {
@@ -33,6 +35,7 @@ fn main() {
         Command::Irregularity(a) => cli::irregularity::run(a),
         Command::Run(a) => cli::run::run(a),
         Command::Modes(a) => cli::modes::run(a),
+        Command::Validate(a) => cli::validate::run_cmd(a),
     };
     if let Err(e) = result {
         eprintln!("maglev: error: {e}");

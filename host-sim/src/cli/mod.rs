@@ -4,3 +4,4 @@ pub mod control;
 pub mod irregularity;
 pub mod modes;
 pub mod run;
+pub mod validate;
