@@ -20,6 +20,8 @@ enum Command {
     Control(cli::control::Args),
     /// Generate a rail irregularity profile (Eq. 3-5, Table 1); CSV to stdout.
     Irregularity(cli::irregularity::Args),
+    /// Linearised stability of the levitation law: poles, spectral radius, critical dt.
+    Stability(cli::stability::Args),
 }
 
 fn main() {
@@ -27,6 +29,7 @@ fn main() {
     let result = match args.command {
         Command::Control(a) => cli::control::run(a),
         Command::Irregularity(a) => cli::irregularity::run(a),
+        Command::Stability(a) => cli::stability::run(a),
     };
     if let Err(e) = result {
         eprintln!("maglev: error: {e}");

@@ -2,3 +2,4 @@
 //! errors are one line naming what is wrong.
 pub mod control;
 pub mod irregularity;
+pub mod stability;

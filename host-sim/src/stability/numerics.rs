@@ -1,0 +1,1 @@
+//! Placeholder for the numerics study (filled in below).
