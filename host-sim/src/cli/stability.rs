@@ -71,7 +71,10 @@ pub struct Report {
 /// Computes the report (no printing).
 pub fn report(args: &Args) -> Result<Report, String> {
     if !(args.dt > 0.0 && args.dt.is_finite()) {
-        return Err(format!("--dt must be a positive number of seconds, got {}", args.dt));
+        return Err(format!(
+            "--dt must be a positive number of seconds, got {}",
+            args.dt
+        ));
     }
     let p = args.controller.params(args.dt)?;
     let lp = Loop::new(&p, 0.0);
@@ -105,7 +108,12 @@ fn fmt_c(z: &Complex) -> String {
     if z.im == 0.0 {
         format!("{:.6}", z.re)
     } else {
-        format!("{:.6} {} {:.6}j", z.re, if z.im < 0.0 { '-' } else { '+' }, z.im.abs())
+        format!(
+            "{:.6} {} {:.6}j",
+            z.re,
+            if z.im < 0.0 { '-' } else { '+' },
+            z.im.abs()
+        )
     }
 }
 
@@ -114,7 +122,9 @@ pub fn table(r: &Report) -> String {
     let list = |v: &[Complex]| v.iter().map(fmt_c).collect::<Vec<_>>().join(", ");
     let crit = r
         .critical_dt_s
-        .map_or("none (unconditionally stable)".to_string(), |d| format!("{d:.6} s"));
+        .map_or("none (unconditionally stable)".to_string(), |d| {
+            format!("{d:.6} s")
+        });
     format!(
         "alpha                      {}\n\
          dt, n_sub                  {} s, {}\n\

@@ -97,14 +97,23 @@ impl Step {
         let mut out = if disc >= 0.0 {
             let r = disc.sqrt();
             [
-                Complex { re: half_tr + r, im: 0.0 },
-                Complex { re: half_tr - r, im: 0.0 },
+                Complex {
+                    re: half_tr + r,
+                    im: 0.0,
+                },
+                Complex {
+                    re: half_tr - r,
+                    im: 0.0,
+                },
             ]
         } else {
             let r = (-disc).sqrt();
             [
                 Complex { re: half_tr, im: r },
-                Complex { re: half_tr, im: -r },
+                Complex {
+                    re: half_tr,
+                    im: -r,
+                },
             ]
         };
         super::sort_poles(&mut out);
@@ -135,7 +144,11 @@ pub fn spectral_radius(params: &Params, eta: f64) -> f64 {
 
 /// The critical sub-step δ* (closed form, root of `Q`), `None` where every δ is stable.
 pub fn critical_substep(lp: &Loop, alpha: f64) -> Option<f64> {
-    let (qa, qb, qc) = ((1.0 - alpha) * lp.ki, (1.0 - 2.0 * alpha) * lp.p, -2.0 * lp.tau);
+    let (qa, qb, qc) = (
+        (1.0 - alpha) * lp.ki,
+        (1.0 - 2.0 * alpha) * lp.p,
+        -2.0 * lp.tau,
+    );
     if qa > 0.0 {
         // Q(0) < 0 and Q opens upwards: one positive root; the form avoids cancellation.
         let disc = qb * qb - 4.0 * qa * qc;

@@ -33,8 +33,11 @@
 //!   pole) is `M·τ·s³ + M·p·s² + M·ki·s − 2·p0/h0`; its constant term is negative and its
 //!   leading one positive, so it has a positive real root for *every* choice of gains. A
 //!   spring–damper suspension does not change that: at `s = 0` it is a rigid link, so the
-//!   reduced polynomial still starts negative. At the paper's values the root is ≈ +3.2 s⁻¹
-//!   (e-folding ≈ 0.3 s, the time a car needs to cross one 25 m span at 100 m/s).
+//!   reduced polynomial still starts negative. At the paper's values the rigid root is
+//!   ≈ +3.2 s⁻¹ (e-folding ≈ 0.3 s, the time a car needs to cross one 25 m span at 100 m/s).
+//! * with the Fig. 1 suspension and a massless magnet (`maglev stability`) it is worse: the
+//!   poles are +7.68 ± 22.3j, +3.99, 0, −44.4 s⁻¹ — the body's bounce on its spring couples
+//!   with the g-loop into a growing 3.6 Hz oscillation besides the real divergence.
 //!
 //! The paper's vehicle therefore relies on the short passage time, not on the law, to keep
 //! the gap; a gap (position) loop would be needed for a free-flying vehicle.
@@ -154,7 +157,8 @@ impl Plant {
 pub fn rigid_growth_rate(params: &Params) -> f64 {
     let lp = Loop::new(params, 0.0);
     let m = params.p0 / GRAVITY;
-    let f = |s: f64| ((m * lp.tau * s + m * lp.p) * s + m * lp.ki) * s - 2.0 * params.p0 / params.h0;
+    let f =
+        |s: f64| ((m * lp.tau * s + m * lp.p) * s + m * lp.ki) * s - 2.0 * params.p0 / params.h0;
     let (mut lo, mut hi) = (0.0, 1.0);
     while f(hi) < 0.0 {
         hi *= 2.0;
