@@ -17,8 +17,21 @@ pub enum Format {
     Table,
 }
 
+/// A study to print instead of the analysis.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Study {
+    /// Convergence of the internal loop per n_sub, interpolation and type (docs/numerics.md).
+    Numerics,
+}
+
 #[derive(clap::Args, Debug)]
 pub struct Args {
+    /// Print a study (Markdown) instead; the other flags are then ignored.
+    #[arg(long, value_enum)]
+    pub study: Option<Study>,
+    /// Sub-steps of the converged f64 reference of the numerics study.
+    #[arg(long = "ref-nsub", default_value_t = 100_000)]
+    pub ref_nsub: u32,
     /// Outer time step Δt (s).
     #[arg(long, default_value_t = 1e-3)]
     pub dt: f64,
@@ -156,6 +169,13 @@ pub fn table(r: &Report) -> String {
 }
 
 pub fn run(args: Args) -> Result<(), String> {
+    if let Some(Study::Numerics) = args.study {
+        print!(
+            "{}",
+            crate::stability::numerics::study(args.ref_nsub.max(1))?
+        );
+        return Ok(());
+    }
     let r = report(&args)?;
     let text = match args.format {
         Format::Json => serde_json::to_string_pretty(&r).map_err(|e| e.to_string())? + "\n",
