@@ -155,7 +155,7 @@ pub fn parse_trace(text: &str, name: &str) -> Result<Trace, String> {
     }
     let n = t.len();
     let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
-    if !(dt > 0.0) {
+    if dt.is_nan() || dt <= 0.0 {
         return Err(format!(
             "{name}: time must increase (t from {} to {})",
             t[0],

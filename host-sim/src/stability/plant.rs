@@ -87,7 +87,7 @@ impl Plant {
         if !(s.magnet_mass >= 0.0 && s.magnet_mass.is_finite()) {
             return Err("magnet mass must be finite and >= 0".into());
         }
-        if !(body_mass > 0.0) {
+        if body_mass.is_nan() || body_mass <= 0.0 {
             return Err(format!(
                 "magnet mass {} kg leaves no body mass: p0/9.81 = {} kg",
                 s.magnet_mass,
@@ -118,7 +118,7 @@ impl Plant {
                 body_mass,
             })
         } else {
-            if !(c > 0.0) {
+            if c.is_nan() || c <= 0.0 {
                 return Err("a massless magnet needs a damper c > 0".into());
             }
             // z_m, z_b, v_b, x, y;  ż_m = v_b + (2·p0·x − k(z_m − z_b))/c
