@@ -36,8 +36,14 @@ fn passage(c: &mut Criterion) {
     let mut g = c.benchmark_group("passage");
     g.sample_size(10);
     for (name, sets) in [
-        ("fe-100mps-dt1ms-nsub1000", vec!["speed=100", "model=fe", "dt=1e-3", "nsub=1000"]),
-        ("modal-100mps-dt1e-5", vec!["speed=100", "model=modal", "dt=1e-5", "nsub=1"]),
+        (
+            "fe-100mps-dt1ms-nsub1000",
+            vec!["speed=100", "model=fe", "dt=1e-3", "nsub=1000"],
+        ),
+        (
+            "modal-100mps-dt1e-5",
+            vec!["speed=100", "model=modal", "dt=1e-5", "nsub=1"],
+        ),
     ] {
         let sets: Vec<String> = sets.into_iter().map(String::from).collect();
         let sc = maglev_host_sim::scenario::load("paper-4.2", &sets).unwrap();

@@ -8,4 +8,5 @@ pub mod output;
 pub mod profile;
 pub mod scenario;
 pub mod simulation;
+pub mod stability;
 pub mod vehicle;

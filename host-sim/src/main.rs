@@ -26,6 +26,8 @@ enum Command {
     Modes(cli::modes::Args),
     /// The paper's validation (§4.3-4.5, Fig. 5): FE against the modal reference; report.md.
     Validate(cli::validate::Args),
+    /// Linearised stability of the levitation law: poles, spectral radius, critical dt.
+    Stability(cli::stability::Args),
 }
 
 fn main() {
@@ -36,6 +38,7 @@ fn main() {
         Command::Run(a) => cli::run::run(a),
         Command::Modes(a) => cli::modes::run(a),
         Command::Validate(a) => cli::validate::run_cmd(a),
+        Command::Stability(a) => cli::stability::run(a),
     };
     if let Err(e) = result {
         eprintln!("maglev: error: {e}");

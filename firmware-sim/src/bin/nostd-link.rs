@@ -9,7 +9,9 @@ use maglev_core::{Params, Scalar};
 fn exercise() -> i64 {
     let mut p = Params::paper_wheel(1e-3);
     p.n_sub = 10;
-    let Ok(ctrl) = p.compile::<I4F28>() else { return -1 };
+    let Ok(ctrl) = p.compile::<I4F28>() else {
+        return -1;
+    };
     let mut st = ctrl.initial_state(p.h0);
     let mut ov = false;
     let out = ctrl.update(&mut st, I4F28::from_f64(1.05, &mut ov));

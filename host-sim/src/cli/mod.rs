@@ -4,4 +4,5 @@ pub mod control;
 pub mod irregularity;
 pub mod modes;
 pub mod run;
+pub mod stability;
 pub mod validate;

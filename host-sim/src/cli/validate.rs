@@ -49,9 +49,15 @@ fn run(sets: &[String]) -> Result<Run, String> {
     let sc: Scenario = scenario::load("paper-4.2", sets)?;
     let (o, wall) = execute(&sc, |_| {})?;
     if o.unconverged_steps > 0 {
-        return Err(format!("{} steps did not converge in {sets:?}", o.unconverged_steps));
+        return Err(format!(
+            "{} steps did not converge in {sets:?}",
+            o.unconverged_steps
+        ));
     }
-    Ok(Run { records: o.records, wall })
+    Ok(Run {
+        records: o.records,
+        wall,
+    })
 }
 
 fn fe(speed: f64, elements: usize, dt: f64) -> Result<(Run, u32), String> {
@@ -67,7 +73,12 @@ fn fe(speed: f64, elements: usize, dt: f64) -> Result<(Run, u32), String> {
 }
 
 fn modal(speed: f64) -> Result<Run, String> {
-    run(&[format!("speed={speed}"), "model=modal".into(), "dt=1e-5".into(), "nsub=1".into()])
+    run(&[
+        format!("speed={speed}"),
+        "model=modal".into(),
+        "dt=1e-5".into(),
+        "nsub=1".into(),
+    ])
 }
 
 /// Reference value at time t by linear interpolation in the (finer) reference history.
@@ -96,14 +107,28 @@ fn wheel1_z(r: &Record) -> f64 {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn compare(case: &str, speed: f64, elements: usize, dt: f64, reference: &Run, lim_mid: Option<f64>, lim_w1: Option<f64>) -> Result<(Comparison, Run), String> {
+fn compare(
+    case: &str,
+    speed: f64,
+    elements: usize,
+    dt: f64,
+    reference: &Run,
+    lim_mid: Option<f64>,
+    lim_w1: Option<f64>,
+) -> Result<(Comparison, Run), String> {
     let (r, nsub) = fe(speed, elements, dt)?;
     let (mp, md) = max_rel_diff(&r.records, &reference.records, midspan_z);
     let (wp, wd) = max_rel_diff(&r.records, &reference.records, wheel1_z);
     let its: Vec<u32> = r.records.iter().skip(1).map(|x| x.iterations).collect();
-    let finite = r.records.iter().all(|x| x.midspan.z.is_finite() && x.wheel1_z.is_finite());
+    let finite = r
+        .records
+        .iter()
+        .all(|x| x.midspan.z.is_finite() && x.wheel1_z.is_finite());
     let (criterion, pass) = match (lim_mid, lim_w1) {
-        (Some(a), Some(b)) => (format!("midspan ≤ {:.0} %, wheel 1 ≤ {:.0} %", a * 100.0, b * 100.0), md <= a && wd <= b && finite),
+        (Some(a), Some(b)) => (
+            format!("midspan ≤ {:.0} %, wheel 1 ≤ {:.0} %", a * 100.0, b * 100.0),
+            md <= a && wd <= b && finite,
+        ),
         _ => ("finite (reported only)".to_string(), finite),
     };
     Ok((
@@ -136,19 +161,41 @@ struct Validation {
     wall_seconds: f64,
 }
 
-fn figure(name: &str, title: &str, reference: &Run, runs: &[(String, &Run)], get: fn(&Record) -> f64, ylabel: &str) -> (String, String) {
+fn figure(
+    name: &str,
+    title: &str,
+    reference: &Run,
+    runs: &[(String, &Run)],
+    get: fn(&Record) -> f64,
+    ylabel: &str,
+) -> (String, String) {
     let t_ref: Vec<f64> = reference.records.iter().map(|r| r.t).collect();
-    let mut series = vec![Series { label: "modal (Δt = 1e-5)".into(), x: &t_ref, y: reference.records.iter().map(get).collect() }];
-    let ts: Vec<Vec<f64>> = runs.iter().map(|(_, r)| r.records.iter().map(|x| x.t).collect()).collect();
+    let mut series = vec![Series {
+        label: "modal (Δt = 1e-5)".into(),
+        x: &t_ref,
+        y: reference.records.iter().map(get).collect(),
+    }];
+    let ts: Vec<Vec<f64>> = runs
+        .iter()
+        .map(|(_, r)| r.records.iter().map(|x| x.t).collect())
+        .collect();
     for ((label, r), t) in runs.iter().zip(&ts) {
-        series.push(Series { label: label.clone(), x: t, y: r.records.iter().map(get).collect() });
+        series.push(Series {
+            label: label.clone(),
+            x: t,
+            y: r.records.iter().map(get).collect(),
+        });
     }
-    (format!("{name}.svg"), svg_plot(title, "t (s)", ylabel, &series))
+    (
+        format!("{name}.svg"),
+        svg_plot(title, "t (s)", ylabel, &series),
+    )
 }
 
 pub fn run_cmd(args: Args) -> Result<(), String> {
     let start = std::time::Instant::now();
-    std::fs::create_dir_all(&args.out).map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
     let mut comps = Vec::new();
     let mut figs = Vec::new();
     let mut refs = std::collections::BTreeMap::new();
@@ -162,67 +209,146 @@ pub fn run_cmd(args: Args) -> Result<(), String> {
         eprintln!("maglev: validate: §4.3 FE at {speed} m/s …");
         let (c, r) = compare("4.3", speed, 20, 1e-3, reference, Some(0.01), Some(0.02))?;
         comps.push(c);
-        figs.push(figure(&format!("fig2-{speed}"), &format!("§4.3 midspan Z at {speed} m/s"), reference, &[("FE, 20 el., Δt = 1 ms".into(), &r)], midspan_z, "midspan_z (m)"));
+        figs.push(figure(
+            &format!("fig2-{speed}"),
+            &format!("§4.3 midspan Z at {speed} m/s"),
+            reference,
+            &[("FE, 20 el., Δt = 1 ms".into(), &r)],
+            midspan_z,
+            "midspan_z (m)",
+        ));
     }
     // §4.4: element counts at 100 m/s.
     let reference = &refs[&100];
     let mut el_runs = Vec::new();
     for el in [2usize, 4, 8, 16, 20] {
         eprintln!("maglev: validate: §4.4 FE with {el} elements …");
-        let lim = if el >= 16 { (Some(0.01), Some(0.02)) } else { (None, None) };
+        let lim = if el >= 16 {
+            (Some(0.01), Some(0.02))
+        } else {
+            (None, None)
+        };
         let (c, r) = compare("4.4", 100.0, el, 1e-3, reference, lim.0, lim.1)?;
         comps.push(c);
         el_runs.push((format!("FE, {el} elements"), r));
     }
     let el_refs: Vec<(String, &Run)> = el_runs.iter().map(|(l, r)| (l.clone(), r)).collect();
-    figs.push(figure("fig3", "§4.4 midspan Z at 100 m/s, element count", reference, &el_refs, midspan_z, "midspan_z (m)"));
+    figs.push(figure(
+        "fig3",
+        "§4.4 midspan Z at 100 m/s, element count",
+        reference,
+        &el_refs,
+        midspan_z,
+        "midspan_z (m)",
+    ));
     // §4.5: time steps at 100 m/s.
     let mut dt_runs = Vec::new();
     for dt in [1e-4, 5e-3, 1e-2] {
         eprintln!("maglev: validate: §4.5 FE with Δt = {dt} s …");
-        let lim = if dt < 6e-3 { (Some(0.02), Some(0.04)) } else { (None, None) };
+        let lim = if dt < 6e-3 {
+            (Some(0.02), Some(0.04))
+        } else {
+            (None, None)
+        };
         let (c, r) = compare("4.5", 100.0, 20, dt, reference, lim.0, lim.1)?;
         comps.push(c);
         dt_runs.push((format!("FE, Δt = {dt} s"), r));
     }
     let dt_refs: Vec<(String, &Run)> = dt_runs.iter().map(|(l, r)| (l.clone(), r)).collect();
-    figs.push(figure("fig4", "§4.5 midspan Z at 100 m/s, time step", reference, &dt_refs, midspan_z, "midspan_z (m)"));
-    figs.push(figure("fig4-wheel1", "§4.5 wheel 1 Z at 100 m/s, time step", reference, &dt_refs, wheel1_z, "wheel1_z (m)"));
+    figs.push(figure(
+        "fig4",
+        "§4.5 midspan Z at 100 m/s, time step",
+        reference,
+        &dt_refs,
+        midspan_z,
+        "midspan_z (m)",
+    ));
+    figs.push(figure(
+        "fig4-wheel1",
+        "§4.5 wheel 1 Z at 100 m/s, time step",
+        reference,
+        &dt_refs,
+        wheel1_z,
+        "wheel1_z (m)",
+    ));
     // Fig. 5: mean Newton–Raphson iterations per step against Δt.
     let mut study = Vec::new();
     for dt in [1e-5, 1e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2] {
         eprintln!("maglev: validate: Fig. 5 iterations at Δt = {dt} s …");
         let (r, _) = fe(100.0, 20, dt)?;
         let its: Vec<u32> = r.records.iter().skip(1).map(|x| x.iterations).collect();
-        study.push((dt, its.iter().map(|&i| i as f64).sum::<f64>() / its.len() as f64, its.iter().copied().max().unwrap_or(0)));
+        study.push((
+            dt,
+            its.iter().map(|&i| i as f64).sum::<f64>() / its.len() as f64,
+            its.iter().copied().max().unwrap_or(0),
+        ));
     }
     let study_pass = study.last().map(|l| l.1) > study.first().map(|f| f.1);
     let pass = comps.iter().all(|c| c.pass) && study_pass;
     // Report.
     let mut md = String::new();
-    let _ = writeln!(md, "# Validation: FE against the modal Timoshenko reference\n");
+    let _ = writeln!(
+        md,
+        "# Validation: FE against the modal Timoshenko reference\n"
+    );
     let _ = writeln!(md, "Generated by `maglev validate` ({:.0} s wall). The paper-4.2 scenario (model.md §9): 25 m Timoshenko beam, Fig. 1 vehicle, Table 1 irregularities (seed 1). Differences are the largest over the whole history, relative to the reference's peak. Reference: modal, 160 modes, Δt = 1e-5 s.\n", start.elapsed().as_secs_f64());
     let _ = writeln!(md, "Overall: **{}**\n", if pass { "PASS" } else { "FAIL" });
     let _ = writeln!(md, "| case | speed (m/s) | elements | Δt (s) | n_sub | midspan Z peak (mm) | max diff | wheel 1 Z peak (mm) | max diff | mean NR it. | criterion | result |");
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|");
     for c in &comps {
-        let _ = writeln!(md, "| §{} | {} | {} | {} | {} | {:.4} | {:.3} % | {:.3} | {:.3} % | {:.2} | {} | {} |", c.case, c.speed_m_per_s, c.elements, c.dt_s, c.nsub, c.midspan_z_peak_m * 1e3, c.midspan_z_max_diff_rel * 100.0, c.wheel1_z_peak_m * 1e3, c.wheel1_z_max_diff_rel * 100.0, c.mean_iterations, c.criterion, if c.pass { "pass" } else { "FAIL" });
+        let _ = writeln!(
+            md,
+            "| §{} | {} | {} | {} | {} | {:.4} | {:.3} % | {:.3} | {:.3} % | {:.2} | {} | {} |",
+            c.case,
+            c.speed_m_per_s,
+            c.elements,
+            c.dt_s,
+            c.nsub,
+            c.midspan_z_peak_m * 1e3,
+            c.midspan_z_max_diff_rel * 100.0,
+            c.wheel1_z_peak_m * 1e3,
+            c.wheel1_z_max_diff_rel * 100.0,
+            c.mean_iterations,
+            c.criterion,
+            if c.pass { "pass" } else { "FAIL" }
+        );
     }
     let _ = writeln!(md, "\n## Fig. 5: Newton–Raphson iterations per step (100 m/s, 20 elements)\n\n| Δt (s) | mean | max |\n|---|---|---|");
     for (dt, mean, max) in &study {
         let _ = writeln!(md, "| {dt} | {mean:.2} | {max} |");
     }
-    let _ = writeln!(md, "\nCriterion: iterations rise as Δt grows (mean at 1e-2 s above mean at 1e-5 s): **{}**.\n", if study_pass { "pass" } else { "FAIL" });
+    let _ = writeln!(
+        md,
+        "\nCriterion: iterations rise as Δt grows (mean at 1e-2 s above mean at 1e-5 s): **{}**.\n",
+        if study_pass { "pass" } else { "FAIL" }
+    );
     let _ = writeln!(md, "## Note: the vehicle drifts\n\nThe wheel-1 histories grow to tens of centimetres: with model.md's EMS sign convention the paper's law regulates the flux g = i/h, not the gap, and the linearised magnet + Fig. 1 vehicle on a rigid rail has unstable poles (see docs/theory.md). FE and modal reproduce the same drift; the comparison is of the two guideway models, not a claim of a stable vehicle.\n");
     let _ = writeln!(md, "## Figures\n");
     for (name, svg) in &figs {
-        std::fs::write(args.out.join(name), svg).map_err(|e| format!("cannot write figure {name}: {e}"))?;
+        std::fs::write(args.out.join(name), svg)
+            .map_err(|e| format!("cannot write figure {name}: {e}"))?;
         let _ = writeln!(md, "![{name}]({name})\n");
     }
-    std::fs::write(args.out.join("report.md"), md).map_err(|e| format!("cannot write report.md: {e}"))?;
-    let v = Validation { pass, comparisons: comps, iteration_study: study, iteration_study_pass: study_pass, wall_seconds: start.elapsed().as_secs_f64() };
-    std::fs::write(args.out.join("validation.json"), serde_json::to_string_pretty(&v).map_err(|e| e.to_string())? + "\n").map_err(|e| format!("cannot write validation.json: {e}"))?;
-    eprintln!("maglev: validate: {} in {:.0} s; wrote {}", if pass { "PASS" } else { "FAIL" }, start.elapsed().as_secs_f64(), args.out.display());
+    std::fs::write(args.out.join("report.md"), md)
+        .map_err(|e| format!("cannot write report.md: {e}"))?;
+    let v = Validation {
+        pass,
+        comparisons: comps,
+        iteration_study: study,
+        iteration_study_pass: study_pass,
+        wall_seconds: start.elapsed().as_secs_f64(),
+    };
+    std::fs::write(
+        args.out.join("validation.json"),
+        serde_json::to_string_pretty(&v).map_err(|e| e.to_string())? + "\n",
+    )
+    .map_err(|e| format!("cannot write validation.json: {e}"))?;
+    eprintln!(
+        "maglev: validate: {} in {:.0} s; wrote {}",
+        if pass { "PASS" } else { "FAIL" },
+        start.elapsed().as_secs_f64(),
+        args.out.display()
+    );
     if pass {
         Ok(())
     } else {

@@ -1,0 +1,186 @@
+//! `maglev stability`: the linearised analysis of the levitation law (issue 5) for one set of
+//! controller parameters — continuous g-loop poles (Eq. 9 + 10), the spectral radius and
+//! critical step of Eq. 14 as discretised, and the poles of one magnet carrying its body.
+//! The numbers come from `crate::stability`; this file only parses and prints.
+
+use super::control::ControllerArgs;
+use crate::stability::discrete::{self, Step};
+use crate::stability::gloop::Loop;
+use crate::stability::plant::{rigid_growth_rate, Plant, Suspension};
+use crate::stability::Complex;
+use serde::Serialize;
+
+/// Output format.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Json,
+    Table,
+}
+
+/// A study to print instead of the analysis.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Study {
+    /// Convergence of the internal loop per n_sub, interpolation and type (docs/numerics.md).
+    Numerics,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Print a study (Markdown) instead; the other flags are then ignored.
+    #[arg(long, value_enum)]
+    pub study: Option<Study>,
+    /// Sub-steps of the converged f64 reference of the numerics study.
+    #[arg(long = "ref-nsub", default_value_t = 100_000)]
+    pub ref_nsub: u32,
+    /// Outer time step Δt (s).
+    #[arg(long, default_value_t = 1e-3)]
+    pub dt: f64,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Json)]
+    pub format: Format,
+    /// Magnet mass m_m (kg) of the magnet + body plant; the body gets p0/9.81 − m_m.
+    #[arg(long = "magnet-mass", default_value_t = 0.0)]
+    pub magnet_mass: f64,
+    /// Suspension stiffness k (N/m), Fig. 1.
+    #[arg(long = "k-susp", default_value_t = 200e3)]
+    pub k_susp: f64,
+    /// Suspension damping c (N·s/m), Fig. 1.
+    #[arg(long = "c-susp", default_value_t = 10e3)]
+    pub c_susp: f64,
+    #[command(flatten)]
+    pub controller: ControllerArgs,
+}
+
+/// The report printed as JSON (SI units: seconds, 1/s).
+#[derive(Debug, Serialize)]
+pub struct Report {
+    pub alpha: f64,
+    pub dt_s: f64,
+    pub n_sub: u32,
+    /// Coil time constant τ = 2·K0·g0/(R0·i0) (s).
+    pub tau_s: f64,
+    /// Per-unit proportional gain `kpv = KP·g0/(R0·i0)`.
+    pub kpv: f64,
+    /// Per-unit integral gain `ki = KI·g0/(R0·i0)` (1/s).
+    pub ki_per_s: f64,
+    /// Roots of τ s² + (1 + kpv) s + ki = 0 (1/s).
+    pub continuous_poles: Vec<Complex>,
+    /// Eigenvalues of one sub-step's amplification matrix.
+    pub substep_eigenvalues: Vec<Complex>,
+    /// Spectral radius of one outer step (n_sub sub-steps).
+    pub discrete_spectral_radius: f64,
+    /// Largest stable outer step at this α and n_sub (s); null where every step is stable.
+    pub critical_dt_s: Option<f64>,
+    /// Closed-loop poles of one magnet carrying its body (1/s).
+    pub plant_poles: Vec<Complex>,
+    /// Names of the plant's states.
+    pub plant_states: Vec<&'static str>,
+    pub plant_body_mass_kg: f64,
+    pub plant_magnet_mass_kg: f64,
+    /// Growth rate of the gap mode if magnet and body were rigidly joined (1/s).
+    pub rigid_gap_growth_per_s: f64,
+}
+
+/// Computes the report (no printing).
+pub fn report(args: &Args) -> Result<Report, String> {
+    if !(args.dt > 0.0 && args.dt.is_finite()) {
+        return Err(format!(
+            "--dt must be a positive number of seconds, got {}",
+            args.dt
+        ));
+    }
+    let p = args.controller.params(args.dt)?;
+    let lp = Loop::new(&p, 0.0);
+    let step = Step::new(&p, 0.0);
+    let susp = Suspension {
+        magnet_mass: args.magnet_mass,
+        k: args.k_susp,
+        c: args.c_susp,
+    };
+    let plant = Plant::new(&p, &susp)?;
+    Ok(Report {
+        alpha: p.alpha,
+        dt_s: p.dt,
+        n_sub: p.n_sub,
+        tau_s: lp.tau,
+        kpv: lp.p - 1.0,
+        ki_per_s: lp.ki,
+        continuous_poles: lp.poles().to_vec(),
+        substep_eigenvalues: step.eigenvalues().to_vec(),
+        discrete_spectral_radius: discrete::spectral_radius(&p, 0.0),
+        critical_dt_s: discrete::critical_dt(&p, 0.0),
+        plant_poles: plant.poles(),
+        plant_states: plant.states.to_vec(),
+        plant_body_mass_kg: plant.body_mass,
+        plant_magnet_mass_kg: args.magnet_mass,
+        rigid_gap_growth_per_s: rigid_growth_rate(&p),
+    })
+}
+
+fn fmt_c(z: &Complex) -> String {
+    if z.im == 0.0 {
+        format!("{:.6}", z.re)
+    } else {
+        format!(
+            "{:.6} {} {:.6}j",
+            z.re,
+            if z.im < 0.0 { '-' } else { '+' },
+            z.im.abs()
+        )
+    }
+}
+
+/// The human-readable table.
+pub fn table(r: &Report) -> String {
+    let list = |v: &[Complex]| v.iter().map(fmt_c).collect::<Vec<_>>().join(", ");
+    let crit = r
+        .critical_dt_s
+        .map_or("none (unconditionally stable)".to_string(), |d| {
+            format!("{d:.6} s")
+        });
+    format!(
+        "alpha                      {}\n\
+         dt, n_sub                  {} s, {}\n\
+         tau, kpv, ki               {:.6} s, {:.6}, {:.6} 1/s\n\
+         continuous poles (1/s)     {}\n\
+         sub-step eigenvalues       {}\n\
+         spectral radius (outer)    {:.9}\n\
+         critical dt                {}\n\
+         plant states               {}\n\
+         plant poles (1/s)          {}\n\
+         body / magnet mass (kg)    {:.3} / {:.3}\n\
+         rigid gap growth (1/s)     {:.6}\n",
+        r.alpha,
+        r.dt_s,
+        r.n_sub,
+        r.tau_s,
+        r.kpv,
+        r.ki_per_s,
+        list(&r.continuous_poles),
+        list(&r.substep_eigenvalues),
+        r.discrete_spectral_radius,
+        crit,
+        r.plant_states.join(", "),
+        list(&r.plant_poles),
+        r.plant_body_mass_kg,
+        r.plant_magnet_mass_kg,
+        r.rigid_gap_growth_per_s,
+    )
+}
+
+pub fn run(args: Args) -> Result<(), String> {
+    if let Some(Study::Numerics) = args.study {
+        print!(
+            "{}",
+            crate::stability::numerics::study(args.ref_nsub.max(1))?
+        );
+        return Ok(());
+    }
+    let r = report(&args)?;
+    let text = match args.format {
+        Format::Json => serde_json::to_string_pretty(&r).map_err(|e| e.to_string())? + "\n",
+        Format::Table => table(&r),
+    };
+    print!("{text}");
+    Ok(())
+}
