@@ -165,7 +165,7 @@ pub fn simulate<G: Guideway>(
                         .iter()
                         .enumerate()
                         .map(|(i, w)| {
-                            let u = if first { &veh.u } else { &veh.u1 };
+                            let u = if first { veh.u() } else { veh.u1() };
                             let m = gw.motion_at(xs[i], w.ey, w.ez);
                             let h0 = ctl[i].lev.params().h0;
                             // Eq. 2 (Z) and model.md §2 (Y, relative lateral position).
@@ -232,8 +232,8 @@ pub fn simulate<G: Guideway>(
                 records.push(Record {
                     t,
                     midspan: guideway.section_at(s.midspan_x),
-                    wheel1_y: veh.u[w1.dof_y],
-                    wheel1_z: veh.u[w1.dof_z],
+                    wheel1_y: veh.u()[w1.dof_y],
+                    wheel1_z: veh.u()[w1.dof_z],
                     wheel1_gap_z: gaps_used[0].0,
                     wheel1_force_z: forces[0].0,
                     iterations,

@@ -65,6 +65,20 @@ impl Newmark {
             return Err(format!("time step must be positive and finite, got {dt}"));
         }
         let c = damping.map(|r| m * r.alpha + k * r.beta);
+        Self::with_damping_matrix(k, m, c, dt)
+    }
+
+    /// As [`Newmark::new`] with an arbitrary (symmetric) damping matrix, e.g. a vehicle's
+    /// discrete dampers. Zero-mass DOFs are fine as long as damping or stiffness holds them.
+    pub fn with_damping_matrix(
+        k: &DMatrix<f64>,
+        m: &DMatrix<f64>,
+        c: Option<DMatrix<f64>>,
+        dt: f64,
+    ) -> Result<Self, String> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(format!("time step must be positive and finite, got {dt}"));
+        }
         let mut keff = k + m * (4.0 / (dt * dt));
         if let Some(c) = &c {
             keff += c * (2.0 / dt);
