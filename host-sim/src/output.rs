@@ -234,6 +234,15 @@ pub fn svg_plot(title: &str, xlabel: &str, ylabel: &str, series: &[Series]) -> S
         h / 2.0,
         esc(ylabel)
     );
+    // Legend, drawn after the curves on a background so curves never run through it.
+    let mut legend = String::new();
+    let _ = writeln!(
+        legend,
+        r##"<rect x="{}" y="{}" width="155" height="{}" fill="white" fill-opacity="0.85" stroke="#bbb"/>"##,
+        w - mr - 158.0,
+        mt + 4.0,
+        16.0 * series.len() as f64 + 6.0
+    );
     for (i, se) in series.iter().enumerate() {
         let c = COLOURS[i % COLOURS.len()];
         // Thin the polyline to about two points per pixel column.
@@ -255,7 +264,7 @@ pub fn svg_plot(title: &str, xlabel: &str, ylabel: &str, series: &[Series]) -> S
         );
         let ly = mt + 15.0 + 16.0 * i as f64;
         let _ = writeln!(
-            s,
+            legend,
             r#"<line x1="{}" y1="{ly}" x2="{}" y2="{ly}" stroke="{c}" stroke-width="2"{dash}/><text x="{}" y="{}">{}</text>"#,
             w - mr - 150.0,
             w - mr - 125.0,
@@ -264,6 +273,7 @@ pub fn svg_plot(title: &str, xlabel: &str, ylabel: &str, series: &[Series]) -> S
             esc(&se.label)
         );
     }
+    s.push_str(&legend);
     s.push_str("</svg>\n");
     s
 }
