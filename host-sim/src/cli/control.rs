@@ -40,34 +40,34 @@ impl From<InterpKind> for Interpolation {
 #[derive(clap::Args, Debug, Clone)]
 pub struct ControllerArgs {
     /// α of the α-method, in [0, 1].
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.5)]
     pub alpha: f64,
     /// Internal-loop sub-steps per outer step.
-    #[arg(long = "nsub", default_value_t = 1)]
+    #[arg(long = "nsub", allow_negative_numbers = true, default_value_t = 1)]
     pub n_sub: u32,
     /// Gap interpolation inside the outer step.
     #[arg(long = "interp", value_enum, default_value_t = InterpKind::Linear)]
     pub interp: InterpKind,
     /// Nominal current i0 (A).
-    #[arg(long, default_value_t = 43.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 43.0)]
     pub i0: f64,
     /// Nominal gap h0 (m).
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.01)]
     pub h0: f64,
     /// Coil resistance R0 (Ω).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
     pub r0: f64,
     /// Proportional gain KP (V·m/A).
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.01)]
     pub kp: f64,
     /// Integral gain KI (V·m/(A·s)).
-    #[arg(long, default_value_t = 6.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 6.0)]
     pub ki: f64,
     /// Static load on the magnet p0 (N); default: a quarter of 15 t.
-    #[arg(long, default_value_t = 15_000.0 * maglev_core::levitation::GRAVITY / 4.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 15_000.0 * maglev_core::levitation::GRAVITY / 4.0)]
     pub p0: f64,
     /// Supply voltage bound ±V (V); `inf` for none (the paper has none).
-    #[arg(long, default_value_t = f64::INFINITY)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = f64::INFINITY)]
     pub vmax: f64,
 }
 
