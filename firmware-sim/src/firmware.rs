@@ -275,16 +275,22 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         events
     }
 
-    /// Channel `k`'s coil current (Q4.28 per unit of i0) and duty.
+    /// Channel `k`'s `g/g0`, coil current `i/i0` (both Q4.28) and duty.
     pub fn output(&self, k: usize) -> ChannelOut {
         let ch = &self.st.ch[k];
-        let i = self.laws[k].output(&ch.law).current.to_f64();
-        let q = libm::round(i * (1u64 << 28) as f64).clamp(i32::MIN as f64, i32::MAX as f64);
+        let out = self.laws[k].output(&ch.law);
         ChannelOut {
-            current_q28: q as i32,
+            g_q28: q28(out.g),
+            current_q28: q28(out.current),
             duty: ch.duty,
         }
     }
+}
+
+/// A per-unit value in Q4.28 (exact for I4F28), saturating.
+fn q28<S: Scalar>(x: S) -> i32 {
+    let q = libm::round(x.to_f64() * (1u64 << 28) as f64);
+    q.clamp(i32::MIN as f64, i32::MAX as f64) as i32
 }
 
 fn map_status(s: Status) -> Event {

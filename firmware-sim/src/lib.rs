@@ -14,6 +14,8 @@
 #[cfg(test)]
 extern crate std;
 
+pub use heapless;
+
 pub mod adc;
 pub mod firmware;
 pub mod hbridge;

@@ -131,6 +131,8 @@ pub enum Nack {
     BadRequest,
     /// The configuration cannot be compiled (e.g. fixed point cannot hold a coefficient).
     BadConfig,
+    /// `seq` older than the last request executed (a late duplicate): not executed.
+    Stale,
 }
 
 /// The firmware's answer to one step.
@@ -145,9 +147,12 @@ pub struct Reply {
     pub channels: Vec<ChannelOut, MAX_CHANNELS>,
 }
 
-/// One channel's outputs: coil current per unit of i0 in Q4.28, the PWM duty last written.
+/// One channel's outputs, per unit in Q4.28 (value × 2^28): `g/g0` (the flux variable of
+/// Eq. 9; the force is `p0·(g/g0)²`, Eq. 1), the coil current `i/i0`, and the PWM duty
+/// last written.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ChannelOut {
+    pub g_q28: i32,
     pub current_q28: i32,
     pub duty: u16,
 }

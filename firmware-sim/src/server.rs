@@ -6,6 +6,8 @@
 //! * `Commit{step}` promotes the trial state of that step; anything else is refused.
 //! * A request whose `seq` equals the last one executed is answered from the cache without
 //!   executing it again (the host retransmits after a lost or corrupted reply).
+//! * A `Step`/`Commit` with a `seq` below the last one executed (a late duplicate) is not
+//!   executed: `Nack(Stale)`. `Config` is always executed and restarts the numbering.
 //! * A frame that fails COBS, CRC or decoding is answered with `Nack(Corrupt)` (seq 0).
 //!
 //! Used as is by the host in-process, by the `maglev-firmware` host process, and by the QEMU
@@ -123,9 +125,15 @@ impl Server {
         if req.version != VERSION {
             return reply(Response::Nack(Nack::Version));
         }
-        if self.last_seq == Some(req.seq) {
-            if let Some(cached) = &self.last {
-                return cached.clone();
+        let is_config = matches!(req.msg, Request::Config(_));
+        if !is_config {
+            if self.last_seq == Some(req.seq) {
+                if let Some(cached) = &self.last {
+                    return cached.clone();
+                }
+            }
+            if self.last_seq.is_some_and(|last| req.seq < last) {
+                return reply(Response::Nack(Nack::Stale));
             }
         }
         let msg = match &req.msg {
