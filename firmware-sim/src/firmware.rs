@@ -90,10 +90,10 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         if cfg.rate_hz == 0 || cfg.ticks_per_step == 0 {
             return Err(ConfigError::Invalid("rate"));
         }
-        if !(1..=16).contains(&cfg.adc_bits) || !(cfg.adc_lsb_m > 0.0) {
+        if !(1..=16).contains(&cfg.adc_bits) || cfg.adc_lsb_m.is_nan() || cfg.adc_lsb_m <= 0.0 {
             return Err(ConfigError::Invalid("adc"));
         }
-        if !(cfg.v_dc > 0.0) {
+        if cfg.v_dc.is_nan() || cfg.v_dc <= 0.0 {
             return Err(ConfigError::Invalid("v_dc"));
         }
         let mut laws = Vec::new();
@@ -202,7 +202,8 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
     fn gap_pu(&self, code: u16) -> S {
         let mut ov = false;
         let frac = S::from_f64(code as f64 * self.code_scale, &mut ov);
-        self.gap_offset.sadd(frac.smul(self.gap_span, &mut ov), &mut ov)
+        self.gap_offset
+            .sadd(frac.smul(self.gap_span, &mut ov), &mut ov)
     }
 
     /// Quantises a per-unit voltage to a duty and writes it; returns whether it clipped.
@@ -243,7 +244,9 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         let mut ov = false;
         let ramp_factor = match self.st.mode {
             Mode::Normal => S::ONE,
-            Mode::Ramp => S::from_f64(self.st.ramp_left as f64, &mut ov).smul(self.ramp_step, &mut ov),
+            Mode::Ramp => {
+                S::from_f64(self.st.ramp_left as f64, &mut ov).smul(self.ramp_step, &mut ov)
+            }
             Mode::Off => S::ZERO,
         };
         for (k, &code) in codes.iter().enumerate().take(n) {

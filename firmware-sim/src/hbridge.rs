@@ -77,7 +77,10 @@ mod tests {
             let (d, clip) = duty_for(frac, max);
             assert!(!clip);
             let v = voltage(d, max, 100.0);
-            assert!((v - 100.0 * frac as f64).abs() <= 100.0 / max as f64 + 1e-9, "{v}");
+            assert!(
+                (v - 100.0 * frac as f64).abs() <= 100.0 / max as f64 + 1e-9,
+                "{v}"
+            );
         }
         assert_eq!(duty_for(1.5, max), (max, true));
         assert_eq!(duty_for(-2.0, max), (0, true));

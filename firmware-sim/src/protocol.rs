@@ -93,26 +93,36 @@ pub struct ChannelInit {
     pub gap: f64,
 }
 
-/// Host → firmware.
+/// Host → firmware. Fixed-size by design (no allocator on the target): the enum is as large
+/// as a full `Step`, which is what a receive buffer must hold anyway.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Request {
     /// Configure and reset to the initial equilibrium; answered with [`Response::Ready`].
     Config(Config),
     /// Run one host step from the committed state: ADC codes tick-major,
     /// `codes[tick · channels + channel]`, `ticks_per_step` ticks.
-    Step { step: u32, codes: Vec<u16, MAX_SAMPLES> },
+    Step {
+        step: u32,
+        codes: Vec<u16, MAX_SAMPLES>,
+    },
     /// Make the state after the last `Step` the committed state.
     Commit { step: u32 },
     /// Liveness check.
     Ping,
 }
 
-/// Firmware → host.
+/// Firmware → host (fixed-size, see [`Request`]).
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Response {
-    Ready { channels: u8 },
+    Ready {
+        channels: u8,
+    },
     Reply(Reply),
-    Committed { step: u32 },
+    Committed {
+        step: u32,
+    },
     Pong,
     /// The request was not executed.
     Nack(Nack),
@@ -204,7 +214,7 @@ pub fn decode<M: for<'de> Deserialize<'de>>(frame: &[u8]) -> Result<Envelope<M>,
         return Err(FrameError::Crc);
     }
     match postcard::take_from_bytes::<Envelope<M>>(payload) {
-        Ok((env, rest)) if rest.is_empty() => Ok(env),
+        Ok((env, [])) => Ok(env),
         _ => Err(FrameError::Decode),
     }
 }

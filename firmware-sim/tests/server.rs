@@ -81,14 +81,33 @@ fn reply(r: Envelope<Response>) -> Reply {
 fn step_restarts_from_committed_and_retransmissions_are_cached() {
     let mut s = Server::new();
     assert!(matches!(
-        s.handle(&env(1, Request::Config(config(ScalarKind::I4F28)))).msg,
+        s.handle(&env(1, Request::Config(config(ScalarKind::I4F28))))
+            .msg,
         Response::Ready { channels: 3 }
     ));
-    let a = reply(s.handle(&env(2, Request::Step { step: 1, codes: codes(1, None) })));
+    let a = reply(s.handle(&env(
+        2,
+        Request::Step {
+            step: 1,
+            codes: codes(1, None),
+        },
+    )));
     // A Newton iteration with other codes, then the first codes again: same as the first.
-    let b = reply(s.handle(&env(3, Request::Step { step: 1, codes: codes(7, None) })));
+    let b = reply(s.handle(&env(
+        3,
+        Request::Step {
+            step: 1,
+            codes: codes(7, None),
+        },
+    )));
     assert_ne!(a, b);
-    let c = reply(s.handle(&env(4, Request::Step { step: 1, codes: codes(1, None) })));
+    let c = reply(s.handle(&env(
+        4,
+        Request::Step {
+            step: 1,
+            codes: codes(1, None),
+        },
+    )));
     assert_eq!(a, c);
     // Retransmission of seq 4 answered from the cache even after the state moved.
     assert!(matches!(
@@ -101,7 +120,14 @@ fn step_restarts_from_committed_and_retransmissions_are_cached() {
     );
     // A late duplicate of an older request is not executed.
     assert_eq!(
-        s.handle(&env(3, Request::Step { step: 1, codes: codes(7, None) })).msg,
+        s.handle(&env(
+            3,
+            Request::Step {
+                step: 1,
+                codes: codes(7, None)
+            }
+        ))
+        .msg,
         Response::Nack(Nack::Stale)
     );
     // Commit of a step that was not run.
@@ -113,7 +139,14 @@ fn step_restarts_from_committed_and_retransmissions_are_cached() {
     let mut short = codes(2, None);
     short.pop();
     assert_eq!(
-        s.handle(&env(7, Request::Step { step: 2, codes: short })).msg,
+        s.handle(&env(
+            7,
+            Request::Step {
+                step: 2,
+                codes: short
+            }
+        ))
+        .msg,
         Response::Nack(Nack::BadRequest)
     );
 }
@@ -145,7 +178,13 @@ fn run_with(ch0: u16, from: u32, steps: u32) -> std::vec::Vec<Reply> {
     for step in 1..=steps {
         seq += 1;
         let o = if step >= from { Some(ch0) } else { None };
-        out.push(reply(s.handle(&env(seq, Request::Step { step, codes: codes(step, o) }))));
+        out.push(reply(s.handle(&env(
+            seq,
+            Request::Step {
+                step,
+                codes: codes(step, o),
+            },
+        ))));
         seq += 1;
         s.handle(&env(seq, Request::Commit { step }));
     }
@@ -195,7 +234,13 @@ fn fixed_and_float_firmware_agree_closely() {
     let run = |k| {
         let mut s = Server::new();
         s.handle(&env(1, Request::Config(config(k))));
-        reply(s.handle(&env(2, Request::Step { step: 1, codes: codes(1, None) })))
+        reply(s.handle(&env(
+            2,
+            Request::Step {
+                step: 1,
+                codes: codes(1, None),
+            },
+        )))
     };
     let (a, b) = (run(ScalarKind::I4F28), run(ScalarKind::F32));
     for k in 0..CH {
@@ -235,12 +280,21 @@ fn host_process_answers_bit_identically() {
     call(Request::Config(config(ScalarKind::I4F28)));
     for step in 1..=30 {
         let o = (step > 20).then_some(0);
-        call(Request::Step { step, codes: codes(step + 3, o) });
-        call(Request::Step { step, codes: codes(step, o) });
+        call(Request::Step {
+            step,
+            codes: codes(step + 3, o),
+        });
+        call(Request::Step {
+            step,
+            codes: codes(step, o),
+        });
         call(Request::Commit { step });
     }
     call(Request::Config(config(ScalarKind::F32)));
-    call(Request::Step { step: 1, codes: codes(1, None) });
+    call(Request::Step {
+        step: 1,
+        codes: codes(1, None),
+    });
     drop(stdin);
     assert!(child.wait().unwrap().success());
 }

@@ -129,14 +129,13 @@ pub fn qemu_command(qemu: &Path, image: &Path) -> Command {
 }
 
 /// Opens the link of a mode.
-pub fn open_link(
-    args: &Args,
-    faults: LinkFaults,
-) -> Result<Box<dyn Link>, String> {
+pub fn open_link(args: &Args, faults: LinkFaults) -> Result<Box<dyn Link>, String> {
     let mut link = match args.firmware {
         FirmwareMode::Inproc => {
             if faults != LinkFaults::default() {
-                return Err("link_fault needs --firmware process or qemu (in-process has no bytes)".into());
+                return Err(
+                    "link_fault needs --firmware process or qemu (in-process has no bytes)".into(),
+                );
             }
             return Ok(Box::new(InProc::default()));
         }
@@ -156,7 +155,9 @@ pub fn open_link(
                 .qemu_image
                 .clone()
                 .or_else(|| std::env::var_os("MAGLEV_QEMU_IMAGE").map(PathBuf::from))
-                .ok_or("--firmware qemu needs the image: --qemu-image PATH or $MAGLEV_QEMU_IMAGE")?;
+                .ok_or(
+                    "--firmware qemu needs the image: --qemu-image PATH or $MAGLEV_QEMU_IMAGE",
+                )?;
             if !image.exists() {
                 return Err(format!("QEMU image {} not found", image.display()));
             }

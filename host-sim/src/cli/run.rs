@@ -72,7 +72,11 @@ pub fn execute(sc: &Scenario, progress: impl FnMut(f64)) -> Result<(Outcome, f64
     Ok((outcome, start.elapsed().as_secs_f64()))
 }
 
-pub(crate) fn fe_guideway(bridge: &Bridge, elements: usize, dt: f64) -> Result<impl Guideway, String> {
+pub(crate) fn fe_guideway(
+    bridge: &Bridge,
+    elements: usize,
+    dt: f64,
+) -> Result<impl Guideway, String> {
     FeGuideway::new(bridge, elements, dt)
 }
 

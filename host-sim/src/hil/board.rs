@@ -34,7 +34,9 @@ pub struct SensorFault {
 impl std::str::FromStr for SensorFault {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        let err = || format!("sensor fault `{s}`: expected KIND:CHANNEL@SECONDS, KIND one of stuck, range, contact");
+        let err = || {
+            format!("sensor fault `{s}`: expected KIND:CHANNEL@SECONDS, KIND one of stuck, range, contact")
+        };
         let (kind, rest) = s.split_once(':').ok_or_else(err)?;
         let (ch, t) = rest.split_once('@').ok_or_else(err)?;
         let kind = match kind {

@@ -98,7 +98,7 @@ pub struct LinkFaults {
 
 impl LinkFaults {
     fn hits(every: u64, n: u64) -> bool {
-        every > 0 && n % every == 0
+        n.checked_rem(every) == Some(0)
     }
 }
 
