@@ -1,1 +1,24 @@
 #![no_std]
+//! Levitation firmware for the magnets of one EMS maglev vehicle, and its simulated board.
+//!
+//! * [`firmware`]: the control loop, generic over embedded-hal 1.0 (`SpiDevice` ADC,
+//!   `SetDutyCycle` H-bridges) and over the core's scalar type.
+//! * [`adc`], [`hbridge`]: the simulated converter chip and power stage.
+//! * [`supervision`]: sensor checks and the fault reactions.
+//! * [`protocol`]: the framed wire format (postcard + CRC-32 + COBS, sequence numbers).
+//! * [`server`]: executes protocol requests on the firmware (step / commit / reply cache);
+//!   the same code runs in-process on the host, as a host process and in the QEMU image.
+//!
+//! Everything is `no_std` and allocation-free; see `docs/hil.md` for the timing model.
+
+#[cfg(test)]
+extern crate std;
+
+pub use heapless;
+
+pub mod adc;
+pub mod firmware;
+pub mod hbridge;
+pub mod protocol;
+pub mod server;
+pub mod supervision;

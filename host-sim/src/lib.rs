@@ -2,6 +2,7 @@
 pub mod cli;
 pub mod fe;
 pub mod guideway;
+pub mod hil;
 pub mod modal;
 pub mod newmark;
 pub mod output;

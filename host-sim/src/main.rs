@@ -28,6 +28,9 @@ enum Command {
     Validate(cli::validate::Args),
     /// Linearised stability of the levitation law: poles, spectral radius, critical dt.
     Stability(cli::stability::Args),
+    /// A passage with the levitation firmware as the controller (in-process, host process
+    /// or QEMU), in lockstep; --compare reports the difference to the ideal run.
+    Hil(cli::hil::Args),
 }
 
 fn main() {
@@ -39,6 +42,7 @@ fn main() {
         Command::Modes(a) => cli::modes::run(a),
         Command::Validate(a) => cli::validate::run_cmd(a),
         Command::Stability(a) => cli::stability::run(a),
+        Command::Hil(a) => cli::hil::run(a),
     };
     if let Err(e) = result {
         eprintln!("maglev: error: {e}");

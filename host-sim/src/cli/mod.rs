@@ -1,6 +1,7 @@
 //! One module per `maglev` subcommand. Each exposes `Args` (clap) and `run(Args) -> Result<(), String>`;
 //! errors are one line naming what is wrong.
 pub mod control;
+pub mod hil;
 pub mod irregularity;
 pub mod modes;
 pub mod run;

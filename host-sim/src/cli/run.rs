@@ -72,11 +72,15 @@ pub fn execute(sc: &Scenario, progress: impl FnMut(f64)) -> Result<(Outcome, f64
     Ok((outcome, start.elapsed().as_secs_f64()))
 }
 
-fn fe_guideway(bridge: &Bridge, elements: usize, dt: f64) -> Result<impl Guideway, String> {
+pub(crate) fn fe_guideway(
+    bridge: &Bridge,
+    elements: usize,
+    dt: f64,
+) -> Result<impl Guideway, String> {
     FeGuideway::new(bridge, elements, dt)
 }
 
-fn profiles_for(sc: &Scenario, load: &Load) -> Result<Profiles, String> {
+pub(crate) fn profiles_for(sc: &Scenario, load: &Load) -> Result<Profiles, String> {
     let enabled = sc.irregularity.as_ref().is_some_and(|i| i.enabled);
     if !enabled || matches!(load, Load::MovingForce { .. }) {
         return Ok(Profiles::smooth());

@@ -1,0 +1,312 @@
+//! The firmware's control loop: sample every gap sensor over SPI, supervise, run the core's
+//! levitation law (one Eq. 14 update per tick), drive each coil's H-bridge PWM.
+//!
+//! Generic over the embedded-hal 1.0 traits (`SpiDevice` for the ADC, `SetDutyCycle` per
+//! coil) and over the core's [`Scalar`] (I4F28 for bit-identical fixed point, `f32` for the
+//! Cortex-M4F FPU). It owns its bus and its PWM channels. The law is the core's, untouched;
+//! this layer adds sampling, quantisation, scaling and supervision.
+//!
+//! # Timing
+//! One [`Firmware::tick`] is one control period `1/rate` (default 10 kHz, 100 µs): per
+//! channel one 3-byte SPI transaction, one law update with `n_sub = 1` and `dt = 1/rate`,
+//! one duty write. With `delay`, the law at tick k uses the sample of tick k−1 (a one-sample
+//! computation delay: sample, compute, apply at the next period). The budget on a real part
+//! is the period: 12 channels × (SPI + update) must finish in 100 µs; the instruction counts
+//! per tick are measured on the QEMU image (see docs/hil.md).
+//!
+//! # Snapshot and restore
+//! The whole mutable state is one `Copy` value, [`FwState`]: the server restores the
+//! committed one before every host step, so a step can be re-run (Newton iterations).
+//!
+//! # Coil model during a fault
+//! The law's own coil equation (Eq. 9, the α-method with KP = KI = 0) carries the current
+//! while the fault ramp drives the voltage; so the reported current stays physical.
+
+use crate::adc::read_channel;
+use crate::hbridge::duty_for;
+use crate::protocol::{ChannelOut, Config, MAX_CHANNELS};
+use crate::supervision::{check, Event, Limits, Mode, SensorState};
+use embedded_hal::pwm::SetDutyCycle;
+use embedded_hal::spi::SpiDevice;
+use heapless::Vec;
+use maglev_core::{Interpolation, Levitation, ParamError, Params, Scalar, State, Status};
+
+/// One channel's state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ChannelState<S> {
+    pub law: State<S>,
+    pub sensor: SensorState,
+    /// The previous tick's sample (for the one-sample delay).
+    pub delayed: u16,
+    /// Voltage (per unit) when the fault ramp started.
+    pub ramp_from: S,
+    pub duty: u16,
+}
+
+/// The firmware's whole mutable state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FwState<S> {
+    pub ch: [ChannelState<S>; MAX_CHANNELS],
+    pub mode: Mode,
+    pub ramp_left: u16,
+    pub tick: u64,
+}
+
+/// Why a configuration was refused.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ConfigError {
+    Law(ParamError),
+    /// Channel count, rate, resolution or scale out of range.
+    Invalid(&'static str),
+}
+
+/// The control loop over a bus `SPI` and PWM channels `PWM`.
+pub struct Firmware<S, SPI, PWM> {
+    spi: SPI,
+    pwm: Vec<PWM, MAX_CHANNELS>,
+    laws: Vec<Levitation<S>, MAX_CHANNELS>,
+    coils: Vec<Levitation<S>, MAX_CHANNELS>,
+    /// `h/h0` of code 0, and of the full 2^bits span.
+    gap_offset: S,
+    gap_span: S,
+    code_scale: f64,
+    full_scale: u16,
+    /// `V_b / V_dc`: per-unit voltage to a fraction of the DC link.
+    v_to_frac: f32,
+    delay: bool,
+    limits: Limits,
+    ramp_step: S,
+    st: FwState<S>,
+}
+
+impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
+    /// Builds the loop from a configuration; the state starts in equilibrium at each
+    /// channel's initial gap. `pwm` must hold one channel per configured magnet.
+    pub fn new(cfg: &Config, spi: SPI, pwm: Vec<PWM, MAX_CHANNELS>) -> Result<Self, ConfigError> {
+        let n = cfg.channels.len();
+        if n == 0 || pwm.len() != n {
+            return Err(ConfigError::Invalid("channels"));
+        }
+        if cfg.rate_hz == 0 || cfg.ticks_per_step == 0 {
+            return Err(ConfigError::Invalid("rate"));
+        }
+        if !(1..=16).contains(&cfg.adc_bits) || cfg.adc_lsb_m.is_nan() || cfg.adc_lsb_m <= 0.0 {
+            return Err(ConfigError::Invalid("adc"));
+        }
+        if cfg.v_dc.is_nan() || cfg.v_dc <= 0.0 {
+            return Err(ConfigError::Invalid("v_dc"));
+        }
+        let mut laws = Vec::new();
+        let mut coils = Vec::new();
+        let mut st = FwState::<S>::default();
+        let full_scale = ((1u32 << cfg.adc_bits) - 1) as u16;
+        for (k, ch) in cfg.channels.iter().enumerate() {
+            let p = Params {
+                i0: cfg.i0,
+                h0: cfg.h0,
+                r0: cfg.r0,
+                kp: cfg.kp,
+                ki: cfg.ki,
+                p0: ch.p0,
+                alpha: cfg.alpha,
+                dt: 1.0 / cfg.rate_hz as f64,
+                n_sub: 1,
+                interpolation: Interpolation::Linear,
+                v_max: cfg.v_max,
+            };
+            let law = p.compile::<S>().map_err(ConfigError::Law)?;
+            let coil = Params {
+                kp: 0.0,
+                ki: 0.0,
+                v_max: f64::INFINITY,
+                ..p
+            }
+            .compile::<S>()
+            .map_err(ConfigError::Law)?;
+            let code = libm::round((ch.gap - cfg.adc_offset_m) / cfg.adc_lsb_m)
+                .clamp(1.0, full_scale as f64 - 1.0) as u16;
+            st.ch[k] = ChannelState {
+                law: law.equilibrium_state(ch.gap),
+                sensor: SensorState {
+                    last_good: code,
+                    last_raw: code,
+                    repeats: 0,
+                    bad_run: 0,
+                },
+                delayed: code,
+                ramp_from: S::ONE,
+                duty: 0,
+            };
+            let _ = laws.push(law);
+            let _ = coils.push(coil);
+        }
+        let mut ov = false;
+        let span_m = (1u32 << cfg.adc_bits) as f64 * cfg.adc_lsb_m;
+        let gap_offset = S::from_f64(cfg.adc_offset_m / cfg.h0, &mut ov);
+        let gap_span = S::from_f64(span_m / cfg.h0, &mut ov);
+        let ramp_step = S::from_f64(1.0 / cfg.ramp_ticks.max(1) as f64, &mut ov);
+        if ov {
+            return Err(ConfigError::Invalid("adc range in units of h0"));
+        }
+        let mut fw = Firmware {
+            spi,
+            pwm,
+            laws,
+            coils,
+            gap_offset,
+            gap_span,
+            code_scale: 1.0 / (1u32 << cfg.adc_bits) as f64,
+            full_scale,
+            v_to_frac: (cfg.r0 * cfg.i0 / cfg.v_dc) as f32,
+            delay: cfg.delay,
+            limits: Limits {
+                hold_ticks: cfg.hold_ticks,
+                stuck_ticks: cfg.stuck_ticks,
+                ramp_ticks: cfg.ramp_ticks.max(1),
+            },
+            ramp_step,
+            st,
+        };
+        for k in 0..n {
+            let v = fw.st.ch[k].law.v;
+            let _ = fw.apply(k, v);
+        }
+        Ok(fw)
+    }
+
+    /// Number of magnet channels.
+    pub fn channels(&self) -> usize {
+        self.laws.len()
+    }
+
+    /// The bus, for the board (in simulation the analogue world drives the ADC's inputs).
+    pub fn bus_mut(&mut self) -> &mut SPI {
+        &mut self.spi
+    }
+
+    /// The whole mutable state (a snapshot).
+    pub fn state(&self) -> FwState<S> {
+        self.st
+    }
+
+    /// Restores a snapshot and re-applies its duties.
+    pub fn restore(&mut self, st: &FwState<S>) {
+        self.st = *st;
+        for k in 0..self.channels() {
+            let d = self.st.ch[k].duty;
+            let _ = self.pwm[k].set_duty_cycle(d);
+        }
+    }
+
+    /// Per-unit gap `h/h0` of a code.
+    fn gap_pu(&self, code: u16) -> S {
+        let mut ov = false;
+        let frac = S::from_f64(code as f64 * self.code_scale, &mut ov);
+        self.gap_offset
+            .sadd(frac.smul(self.gap_span, &mut ov), &mut ov)
+    }
+
+    /// Quantises a per-unit voltage to a duty and writes it; returns whether it clipped.
+    fn apply(&mut self, k: usize, v: S) -> bool {
+        let max = self.pwm[k].max_duty_cycle();
+        let (duty, clipped) = duty_for(v.to_f64() as f32 * self.v_to_frac, max);
+        let _ = self.pwm[k].set_duty_cycle(duty);
+        self.st.ch[k].duty = duty;
+        clipped
+    }
+
+    /// One control period; returns the events raised.
+    pub fn tick(&mut self) -> Event {
+        let n = self.channels();
+        let mut events = Event::default();
+        let mut fault = false;
+        let mut codes = [0u16; MAX_CHANNELS];
+        for (k, code) in codes.iter_mut().enumerate().take(n) {
+            let raw = read_channel(&mut self.spi, k as u8).ok();
+            let ch = &mut self.st.ch[k];
+            let v = check(&mut ch.sensor, raw, self.full_scale, &self.limits);
+            events.raise(v.events);
+            fault |= v.fault;
+            *code = if self.delay {
+                core::mem::replace(&mut ch.delayed, v.code)
+            } else {
+                v.code
+            };
+        }
+        if fault && self.st.mode == Mode::Normal {
+            self.st.mode = Mode::Ramp;
+            self.st.ramp_left = self.limits.ramp_ticks;
+            for ch in self.st.ch.iter_mut().take(n) {
+                ch.ramp_from = ch.law.v;
+            }
+            events.raise(Event::FAULT);
+        }
+        let mut ov = false;
+        let ramp_factor = match self.st.mode {
+            Mode::Normal => S::ONE,
+            Mode::Ramp => {
+                S::from_f64(self.st.ramp_left as f64, &mut ov).smul(self.ramp_step, &mut ov)
+            }
+            Mode::Off => S::ZERO,
+        };
+        for (k, &code) in codes.iter().enumerate().take(n) {
+            let h = self.gap_pu(code);
+            let ch = &mut self.st.ch[k];
+            let out = if self.st.mode == Mode::Normal {
+                self.laws[k].update(&mut ch.law, h)
+            } else {
+                // Coil alone at the ramped voltage: with KP = KI = 0 the law's voltage is 1 + y.
+                let target = ch.ramp_from.smul(ramp_factor, &mut ov);
+                ch.law.y = target.ssub(S::ONE, &mut ov);
+                self.coils[k].update(&mut ch.law, h)
+            };
+            events.raise(map_status(out.status));
+            if self.apply(k, out.voltage) {
+                events.raise(Event::PWM_CLIPPED);
+            }
+        }
+        if self.st.mode == Mode::Ramp {
+            self.st.ramp_left -= 1;
+            if self.st.ramp_left == 0 {
+                self.st.mode = Mode::Off;
+            }
+        }
+        if ov {
+            events.raise(Event::OVERFLOW);
+        }
+        self.st.tick += 1;
+        events
+    }
+
+    /// Channel `k`'s `g/g0`, coil current `i/i0` (both Q4.28) and duty.
+    pub fn output(&self, k: usize) -> ChannelOut {
+        let ch = &self.st.ch[k];
+        let out = self.laws[k].output(&ch.law);
+        ChannelOut {
+            g_q28: q28(out.g),
+            current_q28: q28(out.current),
+            duty: ch.duty,
+        }
+    }
+}
+
+/// A per-unit value in Q4.28 (exact for I4F28), saturating.
+fn q28<S: Scalar>(x: S) -> i32 {
+    let q = libm::round(x.to_f64() * (1u64 << 28) as f64);
+    q.clamp(i32::MIN as f64, i32::MAX as f64) as i32
+}
+
+fn map_status(s: Status) -> Event {
+    let mut e = Event::default();
+    for (from, to) in [
+        (Status::COLLISION, Event::CONTACT),
+        (Status::VOLTAGE_SATURATED, Event::VOLTAGE_SATURATED),
+        (Status::CURRENT_CLAMPED, Event::CURRENT_CLAMPED),
+        (Status::OVERFLOW, Event::OVERFLOW),
+    ] {
+        if s.contains(from) {
+            e.raise(to);
+        }
+    }
+    e
+}

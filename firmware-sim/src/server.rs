@@ -1,0 +1,199 @@
+//! The firmware's side of the protocol: executes requests on a [`Firmware`] wired to the
+//! simulated board ([`AdcChip`], [`HBridge`]), with commit/restore and a reply cache.
+//!
+//! * `Step` restores the committed state, runs `ticks_per_step` ticks (latching each tick's
+//!   codes into the ADC chip before the tick) and keeps the result as the *trial* state.
+//! * `Commit{step}` promotes the trial state of that step; anything else is refused.
+//! * A request whose `seq` equals the last one executed is answered from the cache without
+//!   executing it again (the host retransmits after a lost or corrupted reply).
+//! * A `Step`/`Commit` with a `seq` below the last one executed (a late duplicate) is not
+//!   executed: `Nack(Stale)`. `Config` is always executed and restarts the numbering.
+//! * A frame that fails COBS, CRC or decoding is answered with `Nack(Corrupt)` (seq 0).
+//!
+//! Used as is by the host in-process, by the `maglev-firmware` host process, and by the QEMU
+//! image (feed it bytes with [`Server::push_byte`]).
+
+use crate::adc::AdcChip;
+use crate::firmware::{Firmware, FwState};
+use crate::hbridge::HBridge;
+use crate::protocol::{
+    self, Config, Envelope, FrameReader, Nack, Reply, Request, Response, ScalarKind, MAX_FRAME,
+    VERSION,
+};
+use heapless::Vec;
+use maglev_core::scalar::I4F28;
+use maglev_core::Scalar;
+
+/// A configured firmware in one scalar type, with its committed and trial states.
+pub struct Node<S> {
+    fw: Firmware<S, AdcChip, HBridge>,
+    committed: FwState<S>,
+    trial: Option<(u32, FwState<S>)>,
+    ticks: u16,
+}
+
+impl<S: Scalar> Node<S> {
+    fn new(cfg: &Config) -> Option<Self> {
+        let mut pwm = Vec::new();
+        for _ in 0..cfg.channels.len() {
+            let _ = pwm.push(HBridge::new(cfg.pwm_bits));
+        }
+        let fw = Firmware::new(cfg, AdcChip::default(), pwm).ok()?;
+        Some(Node {
+            committed: fw.state(),
+            fw,
+            trial: None,
+            ticks: cfg.ticks_per_step,
+        })
+    }
+
+    fn step(&mut self, step: u32, codes: &[u16]) -> Response {
+        let n = self.fw.channels();
+        if codes.len() != n * self.ticks as usize {
+            return Response::Nack(Nack::BadRequest);
+        }
+        self.fw.restore(&self.committed);
+        let mut events = 0u16;
+        for tick in codes.chunks_exact(n) {
+            for (k, &c) in tick.iter().enumerate() {
+                self.fw.bus_mut().set_input(k, c);
+            }
+            events |= self.fw.tick().0;
+        }
+        let st = self.fw.state();
+        self.trial = Some((step, st));
+        let mut reply = Reply {
+            step,
+            events,
+            mode: st.mode as u8,
+            channels: Vec::new(),
+        };
+        for k in 0..n {
+            let _ = reply.channels.push(self.fw.output(k));
+        }
+        Response::Reply(reply)
+    }
+
+    fn commit(&mut self, step: u32) -> Response {
+        match self.trial {
+            Some((s, st)) if s == step => {
+                self.committed = st;
+                Response::Committed { step }
+            }
+            _ => Response::Nack(Nack::BadRequest),
+        }
+    }
+}
+
+enum Engine {
+    None,
+    Fixed(Node<I4F28>),
+    Float(Node<f32>),
+}
+
+/// Protocol endpoint.
+pub struct Server {
+    engine: Engine,
+    last: Option<Envelope<Response>>,
+    last_seq: Option<u32>,
+    reader: FrameReader,
+}
+
+impl Default for Server {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Server {
+    pub const fn new() -> Self {
+        Server {
+            engine: Engine::None,
+            last: None,
+            last_seq: None,
+            reader: FrameReader::new(),
+        }
+    }
+
+    /// Executes one request (or answers it from the cache).
+    pub fn handle(&mut self, req: &Envelope<Request>) -> Envelope<Response> {
+        let reply = |msg| Envelope {
+            version: VERSION,
+            seq: req.seq,
+            msg,
+        };
+        if req.version != VERSION {
+            return reply(Response::Nack(Nack::Version));
+        }
+        let is_config = matches!(req.msg, Request::Config(_));
+        if !is_config {
+            if self.last_seq == Some(req.seq) {
+                if let Some(cached) = &self.last {
+                    return cached.clone();
+                }
+            }
+            if self.last_seq.is_some_and(|last| req.seq < last) {
+                return reply(Response::Nack(Nack::Stale));
+            }
+        }
+        let msg = match &req.msg {
+            Request::Ping => Response::Pong,
+            Request::Config(cfg) => self.configure(cfg),
+            Request::Step { step, codes } => match &mut self.engine {
+                Engine::None => Response::Nack(Nack::NotConfigured),
+                Engine::Fixed(n) => n.step(*step, codes),
+                Engine::Float(n) => n.step(*step, codes),
+            },
+            Request::Commit { step } => match &mut self.engine {
+                Engine::None => Response::Nack(Nack::NotConfigured),
+                Engine::Fixed(n) => n.commit(*step),
+                Engine::Float(n) => n.commit(*step),
+            },
+        };
+        let out = reply(msg);
+        self.last_seq = Some(req.seq);
+        self.last = Some(out.clone());
+        out
+    }
+
+    fn configure(&mut self, cfg: &Config) -> Response {
+        self.engine = match cfg.scalar {
+            ScalarKind::I4F28 => Node::new(cfg).map_or(Engine::None, Engine::Fixed),
+            ScalarKind::F32 => Node::new(cfg).map_or(Engine::None, Engine::Float),
+        };
+        match self.engine {
+            Engine::None => Response::Nack(Nack::BadConfig),
+            _ => Response::Ready {
+                channels: cfg.channels.len() as u8,
+            },
+        }
+    }
+
+    /// Handles one received frame (without delimiter); writes the reply frame into `out`
+    /// and returns its length.
+    pub fn handle_frame(&mut self, frame: &[u8], out: &mut [u8]) -> usize {
+        let resp = match protocol::decode::<Request>(frame) {
+            Ok(req) => self.handle(&req),
+            Err(_) => Envelope {
+                version: VERSION,
+                seq: 0,
+                msg: Response::Nack(Nack::Corrupt),
+            },
+        };
+        protocol::encode(&resp, out).unwrap_or(0)
+    }
+
+    /// Byte-stream entry point: feed received bytes one at a time; when a frame completes,
+    /// the reply frame is written into `out` and its length returned.
+    pub fn push_byte(&mut self, b: u8, out: &mut [u8; MAX_FRAME]) -> Option<usize> {
+        let frame = match self.reader.push(b)? {
+            Ok(f) => {
+                let mut copy = [0u8; MAX_FRAME];
+                copy[..f.len()].copy_from_slice(f);
+                (copy, f.len())
+            }
+            Err(_) => ([0u8; MAX_FRAME], 0),
+        };
+        Some(self.handle_frame(&frame.0[..frame.1], out))
+    }
+}

@@ -1,0 +1,300 @@
+//! The server's protocol semantics and fault reactions, driven with synthetic ADC codes, and
+//! the `maglev-firmware` host process answering exactly like the in-process server.
+
+use maglev_firmware_sim::heapless::Vec as HVec;
+use maglev_firmware_sim::protocol::*;
+use maglev_firmware_sim::server::Server;
+use maglev_firmware_sim::supervision::{Event, Mode};
+use std::io::{Read, Write};
+use std::process::{Command, Stdio};
+
+const LSB: f64 = 0.02 / 65536.0;
+const CH: usize = 3;
+const TICKS: usize = 10;
+
+fn config(scalar: ScalarKind) -> Config {
+    let mut channels = HVec::new();
+    for k in 0..CH {
+        channels
+            .push(ChannelInit {
+                p0: 36787.5,
+                gap: 0.01 + 1e-4 * k as f64,
+            })
+            .unwrap();
+    }
+    Config {
+        scalar,
+        rate_hz: 10_000,
+        ticks_per_step: TICKS as u16,
+        delay: false,
+        i0: 43.0,
+        h0: 0.01,
+        r0: 1.0,
+        kp: 0.01,
+        ki: 6.0,
+        alpha: 0.5,
+        v_max: f64::INFINITY,
+        channels,
+        adc_bits: 16,
+        adc_lsb_m: LSB,
+        adc_offset_m: 0.0,
+        pwm_bits: 12,
+        v_dc: 200.0,
+        hold_ticks: 20,
+        stuck_ticks: 100,
+        ramp_ticks: 50,
+    }
+}
+
+/// Codes for a gap moving sinusoidally (a few µm) around each channel's initial gap, with a
+/// per-tick wobble so that no code sticks.
+fn codes(step: u32, override_ch0: Option<u16>) -> HVec<u16, MAX_SAMPLES> {
+    let mut v = HVec::new();
+    for j in 0..TICKS {
+        let t = (step as usize * TICKS + j) as f64 * 1e-4;
+        for k in 0..CH {
+            let h = 0.01 + 1e-4 * k as f64 + 5e-6 * (40.0 * t).sin() + ((j + k) % 3) as f64 * LSB;
+            let c = (h / LSB).round() as u16;
+            v.push(if k == 0 { override_ch0.unwrap_or(c) } else { c })
+                .unwrap();
+        }
+    }
+    v
+}
+
+fn env(seq: u32, msg: Request) -> Envelope<Request> {
+    Envelope {
+        version: VERSION,
+        seq,
+        msg,
+    }
+}
+
+fn reply(r: Envelope<Response>) -> Reply {
+    match r.msg {
+        Response::Reply(rep) => rep,
+        other => panic!("expected a reply, got {other:?}"),
+    }
+}
+
+#[test]
+fn step_restarts_from_committed_and_retransmissions_are_cached() {
+    let mut s = Server::new();
+    assert!(matches!(
+        s.handle(&env(1, Request::Config(config(ScalarKind::I4F28))))
+            .msg,
+        Response::Ready { channels: 3 }
+    ));
+    let a = reply(s.handle(&env(
+        2,
+        Request::Step {
+            step: 1,
+            codes: codes(1, None),
+        },
+    )));
+    // A Newton iteration with other codes, then the first codes again: same as the first.
+    let b = reply(s.handle(&env(
+        3,
+        Request::Step {
+            step: 1,
+            codes: codes(7, None),
+        },
+    )));
+    assert_ne!(a, b);
+    let c = reply(s.handle(&env(
+        4,
+        Request::Step {
+            step: 1,
+            codes: codes(1, None),
+        },
+    )));
+    assert_eq!(a, c);
+    // Retransmission of seq 4 answered from the cache even after the state moved.
+    assert!(matches!(
+        s.handle(&env(5, Request::Commit { step: 1 })).msg,
+        Response::Committed { step: 1 }
+    ));
+    assert_eq!(
+        s.handle(&env(5, Request::Commit { step: 1 })).msg,
+        Response::Committed { step: 1 }
+    );
+    // A late duplicate of an older request is not executed.
+    assert_eq!(
+        s.handle(&env(
+            3,
+            Request::Step {
+                step: 1,
+                codes: codes(7, None)
+            }
+        ))
+        .msg,
+        Response::Nack(Nack::Stale)
+    );
+    // Commit of a step that was not run.
+    assert_eq!(
+        s.handle(&env(6, Request::Commit { step: 9 })).msg,
+        Response::Nack(Nack::BadRequest)
+    );
+    // Wrong sample count.
+    let mut short = codes(2, None);
+    short.pop();
+    assert_eq!(
+        s.handle(&env(
+            7,
+            Request::Step {
+                step: 2,
+                codes: short
+            }
+        ))
+        .msg,
+        Response::Nack(Nack::BadRequest)
+    );
+}
+
+#[test]
+fn unconfigured_and_bad_config_are_refused() {
+    let mut s = Server::new();
+    assert_eq!(
+        s.handle(&env(1, Request::Commit { step: 1 })).msg,
+        Response::Nack(Nack::NotConfigured)
+    );
+    let mut cfg = config(ScalarKind::I4F28);
+    cfg.channels.clear();
+    assert_eq!(
+        s.handle(&env(2, Request::Config(cfg))).msg,
+        Response::Nack(Nack::BadConfig)
+    );
+    let mut old = env(3, Request::Ping);
+    old.version = 0;
+    assert_eq!(s.handle(&old).msg, Response::Nack(Nack::Version));
+}
+
+/// Runs `steps` committed steps with channel 0 replaced from step `from` on.
+fn run_with(ch0: u16, from: u32, steps: u32) -> std::vec::Vec<Reply> {
+    let mut s = Server::new();
+    s.handle(&env(1, Request::Config(config(ScalarKind::I4F28))));
+    let mut seq = 1;
+    let mut out = std::vec::Vec::new();
+    for step in 1..=steps {
+        seq += 1;
+        let o = if step >= from { Some(ch0) } else { None };
+        out.push(reply(s.handle(&env(
+            seq,
+            Request::Step {
+                step,
+                codes: codes(step, o),
+            },
+        ))));
+        seq += 1;
+        s.handle(&env(seq, Request::Commit { step }));
+    }
+    out
+}
+
+fn mid(r: &Reply, k: usize) -> i32 {
+    r.channels[k].duty as i32 - 4095 / 2
+}
+
+#[test]
+fn contact_faults_at_once_then_voltage_ramps_to_zero() {
+    let r = run_with(0, 5, 14);
+    assert!(r[..4].iter().all(|x| x.events & Event::FAULT.0 == 0));
+    assert!(r[4].events & (Event::CONTACT.0 | Event::FAULT.0) == Event::CONTACT.0 | Event::FAULT.0);
+    assert_eq!(r[4].mode, Mode::Ramp as u8);
+    // 50-tick ramp = 5 steps: |V| falls monotonically on every channel, then 0 V, mode Off.
+    for k in 0..CH {
+        let v: std::vec::Vec<i32> = r[4..].iter().map(|x| mid(x, k).abs()).collect();
+        assert!(v.windows(2).all(|w| w[1] <= w[0]), "channel {k}: {v:?}");
+    }
+    assert_eq!(r[9].mode, Mode::Off as u8);
+    assert!(r[9..].iter().all(|x| (0..CH).all(|k| mid(x, k).abs() <= 1)));
+}
+
+#[test]
+fn out_of_range_holds_for_hold_ticks_then_faults() {
+    let r = run_with(65535, 5, 10);
+    // 20 hold ticks = steps 5 and 6 hold; the 21st bad tick (step 7, first tick) faults.
+    assert!(r[4].events & Event::HOLD.0 != 0 && r[4].events & Event::FAULT.0 == 0);
+    assert!(r[5].events & Event::FAULT.0 == 0);
+    assert!(r[6].events & Event::FAULT.0 != 0);
+    assert_eq!(r[6].mode, Mode::Ramp as u8);
+}
+
+#[test]
+fn stuck_sensor_is_detected_then_held_then_faults() {
+    // A constant code: 100 repeats (10 steps) to detect, then 20 held ticks, then fault.
+    let r = run_with(30000, 1, 14);
+    let first = |e: Event| r.iter().position(|x| x.events & e.0 != 0).map(|i| i + 1);
+    assert_eq!(first(Event::STUCK), Some(11));
+    assert_eq!(first(Event::FAULT), Some(13));
+}
+
+#[test]
+fn fixed_and_float_firmware_agree_closely() {
+    let run = |k| {
+        let mut s = Server::new();
+        s.handle(&env(1, Request::Config(config(k))));
+        reply(s.handle(&env(
+            2,
+            Request::Step {
+                step: 1,
+                codes: codes(1, None),
+            },
+        )))
+    };
+    let (a, b) = (run(ScalarKind::I4F28), run(ScalarKind::F32));
+    for k in 0..CH {
+        let d = (a.channels[k].g_q28 - b.channels[k].g_q28).abs() as f64 / (1u64 << 28) as f64;
+        assert!(d < 1e-5, "channel {k}: {d}");
+    }
+}
+
+#[test]
+fn host_process_answers_bit_identically() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_maglev-firmware"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("spawn maglev-firmware");
+    let mut stdin = child.stdin.take().unwrap();
+    let mut stdout = child.stdout.take().unwrap();
+    let mut local = Server::new();
+    let mut reader = FrameReader::new();
+    let mut seq = 0;
+    let mut call = |msg: Request| {
+        seq += 1;
+        let e = env(seq, msg);
+        let mut buf = [0u8; MAX_FRAME];
+        let n = encode(&e, &mut buf).unwrap();
+        stdin.write_all(&buf[..n]).unwrap();
+        stdin.flush().unwrap();
+        let mut byte = [0u8; 1];
+        let remote: Envelope<Response> = loop {
+            stdout.read_exact(&mut byte).unwrap();
+            if let Some(f) = reader.push(byte[0]) {
+                break decode(f.unwrap()).unwrap();
+            }
+        };
+        assert_eq!(remote, local.handle(&e));
+    };
+    call(Request::Config(config(ScalarKind::I4F28)));
+    for step in 1..=30 {
+        let o = (step > 20).then_some(0);
+        call(Request::Step {
+            step,
+            codes: codes(step + 3, o),
+        });
+        call(Request::Step {
+            step,
+            codes: codes(step, o),
+        });
+        call(Request::Commit { step });
+    }
+    call(Request::Config(config(ScalarKind::F32)));
+    call(Request::Step {
+        step: 1,
+        codes: codes(1, None),
+    });
+    drop(stdin);
+    assert!(child.wait().unwrap().success());
+}

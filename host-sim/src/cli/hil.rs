@@ -1,0 +1,324 @@
+//! `maglev hil SCENARIO --firmware inproc|process|qemu [--set key=value]... [--out DIR]
+//! [--compare]`: a passage with the levitation firmware as the controller.
+
+use crate::cli::run::execute;
+use crate::hil::compare::{compare, Comparison};
+use crate::hil::coupling::HilOutcome;
+use crate::hil::link::{InProc, Link, LinkFaults, LinkStats, StreamLink};
+use crate::hil::{execute_hil, HilSettings, HIL_KEYS};
+use crate::output::{write_run, Summary};
+use crate::scenario;
+use maglev_firmware_sim::supervision::Event;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FirmwareMode {
+    /// The firmware's server called directly (no bytes).
+    Inproc,
+    /// The `maglev-firmware` program over its stdin/stdout.
+    Process,
+    /// The QEMU image (mps2-an386, Cortex-M4) over its serial port.
+    Qemu,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// A scenario TOML file, or a bundled name (paper-4.2).
+    pub scenario: String,
+    #[arg(long, value_enum, default_value = "inproc")]
+    pub firmware: FirmwareMode,
+    /// Scenario keys as for `maglev run`, plus firmware keys: rate, delay, scalar (i4f28|f32),
+    /// adc_bits, adc_lsb, adc_offset, adc_noise (LSB rms), adc_seed, pwm_bits, v_dc,
+    /// hold_ticks, stuck_ticks, ramp_ticks, fault=stuck|range|contact:CHANNEL@SECONDS,
+    /// link_fault=corrupt|corrupt_reply|drop|late:EVERY (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Also run the ideal in-process core run and report the differences.
+    #[arg(long)]
+    pub compare: bool,
+    /// The firmware program for `--firmware process` [default: $MAGLEV_FIRMWARE, or
+    /// `maglev-firmware` next to this program].
+    #[arg(long)]
+    pub firmware_bin: Option<PathBuf>,
+    /// The QEMU image for `--firmware qemu` [default: $MAGLEV_QEMU_IMAGE].
+    #[arg(long)]
+    pub qemu_image: Option<PathBuf>,
+    /// The QEMU program [default: $MAGLEV_QEMU, or qemu-system-arm].
+    #[arg(long)]
+    pub qemu: Option<PathBuf>,
+    /// Reply timeout before a retransmission (ms).
+    #[arg(long, default_value_t = 5000)]
+    pub timeout_ms: u64,
+    /// Retransmissions before giving up.
+    #[arg(long, default_value_t = 5)]
+    pub retries: u32,
+}
+
+/// `summary.json` of a HIL run: the `maglev run` summary plus the firmware's figures.
+#[derive(Serialize, Debug)]
+pub struct HilSummary {
+    #[serde(flatten)]
+    pub run: Summary,
+    pub firmware: String,
+    pub scalar: String,
+    pub rate_hz: u32,
+    pub ticks_per_step: u32,
+    pub delay: bool,
+    /// Round trips (Config, Step, Commit) per second of time spent in the link.
+    pub exchanges_per_second: f64,
+    /// Round trips per second of the whole run's wall time (plant included).
+    pub exchanges_per_wall_second: f64,
+    pub link: LinkStats,
+    /// How many steps raised each event.
+    pub events: BTreeMap<String, usize>,
+    pub first_fault_s: Option<f64>,
+    pub compare: Option<Comparison>,
+    /// The same differences over the steps before the first fault (when there was one).
+    pub compare_before_fault: Option<Comparison>,
+}
+
+fn parse_link_fault(v: &str, lf: &mut LinkFaults) -> Result<(), String> {
+    let err = || format!("link_fault `{v}`: expected corrupt|corrupt_reply|drop|late:EVERY");
+    let (k, n) = v.split_once(':').ok_or_else(err)?;
+    let n: u64 = n.parse().map_err(|_| err())?;
+    match k {
+        "corrupt" => lf.corrupt_request = n,
+        "corrupt_reply" => lf.corrupt_reply = n,
+        "drop" => lf.drop_request = n,
+        "late" => lf.late_request = n,
+        _ => return Err(err()),
+    }
+    Ok(())
+}
+
+fn firmware_program(args: &Args) -> PathBuf {
+    if let Some(p) = &args.firmware_bin {
+        return p.clone();
+    }
+    if let Some(p) = std::env::var_os("MAGLEV_FIRMWARE") {
+        return p.into();
+    }
+    let exe = std::env::current_exe().unwrap_or_default();
+    exe.with_file_name(format!("maglev-firmware{}", std::env::consts::EXE_SUFFIX))
+}
+
+/// The QEMU command line for an image (the serial port is the link on stdin/stdout).
+pub fn qemu_command(qemu: &Path, image: &Path) -> Command {
+    let mut c = Command::new(qemu);
+    c.args([
+        "-machine",
+        "mps2-an386",
+        "-cpu",
+        "cortex-m4",
+        "-nographic",
+        "-monitor",
+        "none",
+        "-serial",
+        "stdio",
+        "-semihosting",
+        "-kernel",
+    ])
+    .arg(image);
+    c
+}
+
+/// Opens the link of a mode.
+pub fn open_link(args: &Args, faults: LinkFaults) -> Result<Box<dyn Link>, String> {
+    let mut link = match args.firmware {
+        FirmwareMode::Inproc => {
+            if faults != LinkFaults::default() {
+                return Err(
+                    "link_fault needs --firmware process or qemu (in-process has no bytes)".into(),
+                );
+            }
+            return Ok(Box::new(InProc::default()));
+        }
+        FirmwareMode::Process => {
+            let prog = firmware_program(args);
+            if !prog.exists() {
+                return Err(format!(
+                    "firmware program {} not found: build it (cargo build -p maglev-firmware-sim \
+                     --bin maglev-firmware --release) or pass --firmware-bin / $MAGLEV_FIRMWARE",
+                    prog.display()
+                ));
+            }
+            StreamLink::spawn(Command::new(prog))?
+        }
+        FirmwareMode::Qemu => {
+            let image = args
+                .qemu_image
+                .clone()
+                .or_else(|| std::env::var_os("MAGLEV_QEMU_IMAGE").map(PathBuf::from))
+                .ok_or(
+                    "--firmware qemu needs the image: --qemu-image PATH or $MAGLEV_QEMU_IMAGE",
+                )?;
+            if !image.exists() {
+                return Err(format!("QEMU image {} not found", image.display()));
+            }
+            let qemu = args
+                .qemu
+                .clone()
+                .or_else(|| std::env::var_os("MAGLEV_QEMU").map(PathBuf::from))
+                .unwrap_or_else(|| "qemu-system-arm".into());
+            StreamLink::spawn(qemu_command(&qemu, &image))?
+        }
+    };
+    link.timeout = Duration::from_millis(args.timeout_ms);
+    link.max_retries = args.retries;
+    link.faults = faults;
+    Ok(Box::new(link))
+}
+
+fn event_counts(out: &HilOutcome) -> (BTreeMap<String, usize>, Option<f64>) {
+    let mut m = BTreeMap::new();
+    let mut first = None;
+    for e in &out.events {
+        for (bit, name) in Event::NAMES {
+            if e.events.contains(bit) {
+                *m.entry(name.to_string()).or_insert(0) += 1;
+            }
+        }
+        if e.events.contains(Event::FAULT) && first.is_none() {
+            first = Some(e.t);
+        }
+    }
+    (m, first)
+}
+
+fn events_csv(out: &HilOutcome) -> String {
+    let mut s = String::from("t,mode,events\n");
+    for e in &out.events {
+        let names: Vec<&str> = Event::NAMES
+            .iter()
+            .filter(|(b, _)| e.events.contains(*b))
+            .map(|(_, n)| *n)
+            .collect();
+        s.push_str(&format!("{},{},{}\n", e.t, e.mode, names.join(" ")));
+    }
+    s
+}
+
+pub fn run(args: Args) -> Result<(), String> {
+    let mut hs = HilSettings::default();
+    let mut faults = LinkFaults::default();
+    let mut scenario_sets = Vec::new();
+    for s in &args.sets {
+        let (k, v) = s
+            .split_once('=')
+            .ok_or_else(|| format!("--set `{s}`: expected KEY=VALUE"))?;
+        if k == "link_fault" {
+            parse_link_fault(v, &mut faults)?;
+        } else if HIL_KEYS.contains(&k) {
+            hs.set(k, v)?;
+        } else {
+            scenario_sets.push(s.clone());
+        }
+    }
+    let sc = scenario::load(&args.scenario, &scenario_sets)?;
+    let mut link = open_link(&args, faults)?;
+    let mut last = Instant::now();
+    let (outcome, wall) = execute_hil(&sc, &hs, link.as_mut(), |f| {
+        if last.elapsed().as_secs_f64() > 2.0 {
+            eprintln!("maglev: {:.0} % …", 100.0 * f);
+            last = Instant::now();
+        }
+    })?;
+    let stats = link.stats();
+    drop(link);
+    let (events, first_fault_s) = event_counts(&outcome);
+    let (cmp, cmp_before) = if args.compare {
+        let (ideal, _) = execute(&sc, |_| {})?;
+        let all = compare(&outcome.records, &ideal.records)?;
+        let before = match first_fault_s {
+            Some(tf) => {
+                let k = outcome.records.iter().take_while(|r| r.t < tf).count();
+                Some(compare(&outcome.records[..k], &ideal.records[..k])?)
+            }
+            None => None,
+        };
+        (Some(all), before)
+    } else {
+        (None, None)
+    };
+    let run = Summary::new(
+        &args.scenario,
+        &sc.run.model,
+        &outcome.records,
+        wall,
+        outcome.unconverged_steps,
+    );
+    let summary = HilSummary {
+        firmware: format!("{:?}", args.firmware).to_lowercase(),
+        scalar: format!("{:?}", hs.scalar).to_lowercase(),
+        rate_hz: hs.rate_hz,
+        ticks_per_step: (sc.run.dt_s * hs.rate_hz as f64).round() as u32,
+        delay: hs.delay,
+        exchanges_per_second: stats.exchanges as f64 / stats.seconds.max(1e-12),
+        exchanges_per_wall_second: stats.exchanges as f64 / wall.max(1e-12),
+        link: stats,
+        events,
+        first_fault_s,
+        compare: cmp,
+        compare_before_fault: cmp_before,
+        run,
+    };
+    write_run(&args.out, &outcome.records, &summary.run)?;
+    let put = |name: &str, text: String| {
+        let p = args.out.join(name);
+        std::fs::write(&p, text).map_err(|e| format!("cannot write {}: {e}", p.display()))
+    };
+    put(
+        "summary.json",
+        serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())? + "\n",
+    )?;
+    put("events.csv", events_csv(&outcome))?;
+    if outcome.unconverged_steps > 0 {
+        eprintln!(
+            "maglev: warning: {} step(s) hit max_iterations without converging",
+            outcome.unconverged_steps
+        );
+    }
+    eprintln!(
+        "maglev: hil ({}) {} steps, {:.3} s simulated in {:.2} s wall; {} exchanges, {:.0}/s in the link \
+         ({} retries); wrote {}",
+        summary.firmware,
+        summary.run.steps,
+        summary.run.simulated_seconds,
+        wall,
+        stats.exchanges,
+        summary.exchanges_per_second,
+        stats.retries,
+        args.out.display()
+    );
+    if let Some(t) = first_fault_s {
+        eprintln!("maglev: firmware fault at t = {t} s (see events.csv)");
+    }
+    let tables = [
+        ("whole run", &summary.compare),
+        ("before the first fault", &summary.compare_before_fault),
+    ];
+    for (label, c) in tables {
+        let Some(c) = c else { continue };
+        println!("difference to the ideal run, {label} (max |HIL − ideal|):");
+        for (name, d) in [
+            ("midspan_z (m)", c.midspan_z),
+            ("wheel1_gap_z (m)", c.wheel1_gap_z),
+            ("wheel1_force_z (N)", c.wheel1_force_z),
+        ] {
+            println!(
+                "  {name:20} {:.4e} at t = {:.4} s  ({:.2} % of the ideal peak {:.4e})",
+                d.max_abs,
+                d.at_t,
+                100.0 * d.relative,
+                d.ideal_peak
+            );
+        }
+    }
+    Ok(())
+}

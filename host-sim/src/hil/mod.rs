@@ -1,0 +1,170 @@
+//! Hardware-in-the-loop: the firmware (`maglev-firmware-sim`) as the levitation controller
+//! of a passage, in lockstep with the plant.
+//!
+//! * [`link`]: how the host talks to the firmware (in-process, a host process, QEMU).
+//! * [`board`]: the physical side of its peripherals (gap → ADC codes, current → force).
+//! * [`coupling`]: the Newton–Raphson loop with `Step`/`Commit`.
+//! * [`compare`]: the difference to the ideal in-process core run.
+//!
+//! See `docs/hil.md` for the timing model, the protocol and the fault reactions.
+
+pub mod board;
+pub mod compare;
+pub mod coupling;
+pub mod link;
+
+use crate::cli::run::{fe_guideway, profiles_for};
+use crate::modal::ModalGuideway;
+use crate::scenario::{Model, Scenario, VehicleSection};
+use crate::simulation::Settings;
+use crate::vehicle::VehicleModel;
+use board::SensorFault;
+use coupling::{simulate_hil, HilOutcome};
+use link::Link;
+use maglev_firmware_sim::adc::AdcModel;
+use maglev_firmware_sim::protocol::ScalarKind;
+use std::time::Instant;
+
+/// Firmware, converter and supervision settings of a HIL run (SI).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HilSettings {
+    pub scalar: ScalarKind,
+    pub rate_hz: u32,
+    pub delay: bool,
+    pub adc: AdcModel,
+    pub pwm_bits: u8,
+    pub v_dc: f64,
+    pub hold_ticks: u16,
+    pub stuck_ticks: u16,
+    pub ramp_ticks: u16,
+    pub sensor_faults: Vec<SensorFault>,
+}
+
+impl Default for HilSettings {
+    /// 10 kHz, I4F28, no delay; 16-bit ADC over 0–20 mm (0.305 µm per code) with 0.5 LSB
+    /// noise; 12-bit PWM on a 200 V link; hold 2 ms, stuck after 10 ms, ramp 0.2 s.
+    fn default() -> Self {
+        HilSettings {
+            scalar: ScalarKind::I4F28,
+            rate_hz: 10_000,
+            delay: false,
+            adc: AdcModel {
+                bits: 16,
+                lsb_m: 0.02 / 65536.0,
+                offset_m: 0.0,
+                noise_lsb: 0.5,
+                seed: 1,
+            },
+            pwm_bits: 12,
+            v_dc: 200.0,
+            hold_ticks: 20,
+            stuck_ticks: 100,
+            ramp_ticks: 2000,
+            sensor_faults: Vec::new(),
+        }
+    }
+}
+
+/// `--set` keys that belong to the firmware, not the scenario.
+pub const HIL_KEYS: [&str; 15] = [
+    "rate",
+    "delay",
+    "scalar",
+    "adc_bits",
+    "adc_lsb",
+    "adc_offset",
+    "adc_noise",
+    "adc_seed",
+    "pwm_bits",
+    "v_dc",
+    "hold_ticks",
+    "stuck_ticks",
+    "ramp_ticks",
+    "fault",
+    "link_fault",
+];
+
+impl HilSettings {
+    /// Applies one `key=value` of [`HIL_KEYS`] (except `link_fault`, handled by the CLI).
+    pub fn set(&mut self, key: &str, value: &str) -> Result<(), String> {
+        fn num<T: std::str::FromStr>(k: &str, v: &str) -> Result<T, String> {
+            v.parse()
+                .map_err(|_| format!("--set {k}: cannot read `{v}` as a number"))
+        }
+        match key {
+            "rate" => self.rate_hz = num(key, value)?,
+            "delay" => {
+                self.delay = match value {
+                    "1" | "true" | "on" => true,
+                    "0" | "false" | "off" => false,
+                    _ => return Err(format!("--set delay: expected true/false, got `{value}`")),
+                }
+            }
+            "scalar" => {
+                self.scalar = match value {
+                    "i4f28" => ScalarKind::I4F28,
+                    "f32" => ScalarKind::F32,
+                    _ => return Err(format!("--set scalar: i4f28 or f32, got `{value}`")),
+                }
+            }
+            "adc_bits" => self.adc.bits = num(key, value)?,
+            "adc_lsb" => self.adc.lsb_m = num(key, value)?,
+            "adc_offset" => self.adc.offset_m = num(key, value)?,
+            "adc_noise" => self.adc.noise_lsb = num(key, value)?,
+            "adc_seed" => self.adc.seed = num(key, value)?,
+            "pwm_bits" => self.pwm_bits = num(key, value)?,
+            "v_dc" => self.v_dc = num(key, value)?,
+            "hold_ticks" => self.hold_ticks = num(key, value)?,
+            "stuck_ticks" => self.stuck_ticks = num(key, value)?,
+            "ramp_ticks" => self.ramp_ticks = num(key, value)?,
+            "fault" => self.sensor_faults.push(value.parse()?),
+            _ => return Err(format!("unknown firmware key `{key}`")),
+        }
+        if !(1..=16).contains(&self.adc.bits) || !(1..=16).contains(&self.pwm_bits) {
+            return Err("adc_bits and pwm_bits must lie in 1..=16".into());
+        }
+        Ok(())
+    }
+}
+
+/// Runs scenario `sc` with the firmware behind `link`; returns the outcome and wall seconds.
+pub fn execute_hil(
+    sc: &Scenario,
+    hs: &HilSettings,
+    link: &mut dyn Link,
+    progress: impl FnMut(f64),
+) -> Result<(HilOutcome, f64), String> {
+    let VehicleSection::Fig1 { .. } = &sc.vehicle else {
+        return Err("hil needs a vehicle with magnets (vehicle.kind = \"fig1\")".into());
+    };
+    let bridge = sc.bridge();
+    let dt = sc.run.dt_s;
+    let v = VehicleModel::fig1(&sc.fig1()?, maglev_core::levitation::GRAVITY);
+    let load = crate::simulation::Load::Vehicle(v);
+    let profiles = profiles_for(sc, &load)?;
+    let crate::simulation::Load::Vehicle(v) = load else {
+        unreachable!()
+    };
+    let settings = Settings {
+        speed: sc.run.speed_m_per_s,
+        dt,
+        t_end: sc.t_end(),
+        controller: sc.controller_params()?,
+        tolerance: sc.run.tolerance_m,
+        max_iterations: sc.run.max_iterations,
+        midspan_x: bridge.spans[0] / 2.0,
+    };
+    let start = Instant::now();
+    let out = match sc.model()? {
+        Model::Modal => {
+            let mut g =
+                ModalGuideway::from_bridge(&bridge, sc.run.modes, dt).map_err(|e| e.to_string())?;
+            simulate_hil(&mut g, &v, &profiles, &settings, hs, link, progress)?
+        }
+        Model::Fe => {
+            let mut g = fe_guideway(&bridge, sc.run.elements_per_span, dt)?;
+            simulate_hil(&mut g, &v, &profiles, &settings, hs, link, progress)?
+        }
+    };
+    Ok((out, start.elapsed().as_secs_f64()))
+}

@@ -1,0 +1,159 @@
+//! `maglev hil` end to end on a short passage: the byte-stream link gives bit-identical
+//! results to the in-process firmware, with and without injected link faults; sensor faults
+//! raise their events at the documented times; a dead link is reported, not hung on.
+
+use maglev_firmware_sim::protocol::Request;
+use maglev_firmware_sim::supervision::Event;
+use maglev_host_sim::hil::board::SensorFault;
+use maglev_host_sim::hil::coupling::HilOutcome;
+use maglev_host_sim::hil::link::{serve, InProc, Link, LinkFaults, StreamLink};
+use maglev_host_sim::hil::{execute_hil, HilSettings};
+use maglev_host_sim::scenario;
+use std::os::unix::net::UnixStream;
+use std::time::Duration;
+
+fn scenario(t_end: &str) -> scenario::Scenario {
+    scenario::load("paper-4.2", &[format!("t_end={t_end}")]).unwrap()
+}
+
+/// A firmware on a thread behind a Unix socket pair: the same bytes as the host process.
+fn socket_link(faults: LinkFaults, timeout_ms: u64) -> StreamLink {
+    let (host, fw) = UnixStream::pair().unwrap();
+    let fw_out = fw.try_clone().unwrap();
+    std::thread::spawn(move || serve(fw, fw_out));
+    let mut link = StreamLink::new(host.try_clone().unwrap(), host);
+    link.faults = faults;
+    link.timeout = Duration::from_millis(timeout_ms);
+    link
+}
+
+fn run(link: &mut dyn Link, hs: &HilSettings, t_end: &str) -> HilOutcome {
+    execute_hil(&scenario(t_end), hs, link, |_| {}).unwrap().0
+}
+
+fn bits(o: &HilOutcome) -> Vec<[u64; 4]> {
+    o.records
+        .iter()
+        .map(|r| {
+            [
+                r.midspan.z.to_bits(),
+                r.wheel1_gap_z.to_bits(),
+                r.wheel1_force_z.to_bits(),
+                r.iterations as u64,
+            ]
+        })
+        .collect()
+}
+
+#[test]
+fn stream_link_is_bit_identical_to_in_process_even_with_link_faults() {
+    let hs = HilSettings::default();
+    let a = run(&mut InProc::default(), &hs, "0.03");
+    let mut clean = socket_link(LinkFaults::default(), 2000);
+    let b = run(&mut clean, &hs, "0.03");
+    assert_eq!(bits(&a), bits(&b));
+    assert_eq!(clean.stats().retries, 0);
+    let faults = LinkFaults {
+        corrupt_request: 5,
+        corrupt_reply: 7,
+        drop_request: 11,
+        late_request: 13,
+    };
+    let mut faulty = socket_link(faults, 20);
+    let c = run(&mut faulty, &hs, "0.03");
+    assert_eq!(bits(&a), bits(&c));
+    let st = faulty.stats();
+    assert!(st.nacks > 0, "{st:?}");
+    assert!(st.corrupt_replies > 0, "{st:?}");
+    assert!(st.timeouts > 0, "{st:?}");
+    assert!(st.stale_replies > 0, "{st:?}");
+    assert_eq!(st.exchanges, clean.stats().exchanges);
+}
+
+#[test]
+fn f32_firmware_and_delay_run_and_differ_from_the_default() {
+    let base = run(&mut InProc::default(), &HilSettings::default(), "0.03");
+    let f32s = HilSettings {
+        scalar: maglev_firmware_sim::protocol::ScalarKind::F32,
+        ..HilSettings::default()
+    };
+    let delayed = HilSettings {
+        delay: true,
+        ..HilSettings::default()
+    };
+    for hs in [f32s, delayed] {
+        let o = run(&mut InProc::default(), &hs, "0.03");
+        assert_ne!(bits(&o), bits(&base));
+        let d = o
+            .records
+            .iter()
+            .zip(&base.records)
+            .map(|(a, b)| (a.wheel1_gap_z - b.wheel1_gap_z).abs())
+            .fold(0.0, f64::max);
+        assert!(d < 1e-6, "{d}");
+    }
+}
+
+fn first(o: &HilOutcome, e: Event) -> Option<f64> {
+    o.events.iter().find(|r| r.events.contains(e)).map(|r| r.t)
+}
+
+fn with_fault(spec: &str) -> HilOutcome {
+    let hs = HilSettings {
+        sensor_faults: vec![spec.parse::<SensorFault>().unwrap()],
+        ..HilSettings::default()
+    };
+    run(&mut InProc::default(), &hs, "0.04")
+}
+
+#[test]
+fn sensor_faults_raise_events_at_the_documented_times() {
+    let clean = run(&mut InProc::default(), &HilSettings::default(), "0.04");
+    assert_eq!(first(&clean, Event::FAULT), None);
+    // The fault starts at control tick 100 (t = 10 ms), the last tick of the step ending at
+    // 10 ms. Contact on channel 0 (wheel 1 levitation): fault in that tick.
+    let at = |t: Option<f64>, want: f64| t.is_some_and(|t| (t - want).abs() < 1e-9);
+    let o = with_fault("contact:0@0.01");
+    assert!(at(first(&o, Event::CONTACT), 0.010));
+    assert!(at(first(&o, Event::FAULT), 0.010));
+    // Out of range: held 20 ticks, fault on the 21st bad tick (tick 120).
+    let o = with_fault("range:1@0.01");
+    assert!(at(first(&o, Event::OUT_OF_RANGE), 0.010));
+    assert!(
+        at(first(&o, Event::FAULT), 0.012),
+        "{:?}",
+        first(&o, Event::FAULT)
+    );
+    // Stuck: frozen at tick 100, the 100th repeat (tick 200) is detected, held 20 ticks,
+    // fault at tick 220.
+    let o = with_fault("stuck:2@0.01");
+    assert!(
+        at(first(&o, Event::STUCK), 0.020),
+        "{:?}",
+        first(&o, Event::STUCK)
+    );
+    assert!(
+        at(first(&o, Event::FAULT), 0.022),
+        "{:?}",
+        first(&o, Event::FAULT)
+    );
+    // After the fault the forces leave the clean run's (the magnets are being switched off).
+    let last = |o: &HilOutcome| o.records.last().unwrap().wheel1_force_z;
+    assert!(
+        last(&o) < 0.9 * last(&clean),
+        "{} vs {}",
+        last(&o),
+        last(&clean)
+    );
+}
+
+#[test]
+fn a_silent_firmware_is_reported_after_the_retries() {
+    let (host, _fw) = UnixStream::pair().unwrap();
+    let mut link = StreamLink::new(host.try_clone().unwrap(), host);
+    link.timeout = Duration::from_millis(10);
+    link.max_retries = 2;
+    let err = link.call(Request::Ping).unwrap_err();
+    assert!(err.contains("after 2 retries"), "{err}");
+    assert_eq!(link.stats().timeouts, 3);
+}
