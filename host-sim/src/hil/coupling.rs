@@ -132,7 +132,7 @@ pub fn simulate_hil<G: Guideway>(
                 out[3 * i..3 * i + 3].copy_from_slice(&[hz, h0 + d, h0 - d]);
             }
         };
-        gaps(&veh.u, guideway, &mut h_next);
+        gaps(veh.u(), guideway, &mut h_next);
         let mut iterations = 0;
         let mut used = vec![0.0; nch];
         let reply = loop {
@@ -177,7 +177,7 @@ pub fn simulate_hil<G: Guideway>(
             guideway.solve_step(&loads);
             veh.solve(&f);
             used.copy_from_slice(&h_next);
-            gaps(&veh.u1, guideway, &mut h_next);
+            gaps(veh.u1(), guideway, &mut h_next);
             let change = h_next
                 .iter()
                 .zip(&used)
@@ -209,8 +209,8 @@ pub fn simulate_hil<G: Guideway>(
         records.push(Record {
             t,
             midspan: guideway.section_at(s.midspan_x),
-            wheel1_y: veh.u[w1.dof_y],
-            wheel1_z: veh.u[w1.dof_z],
+            wheel1_y: veh.u()[w1.dof_y],
+            wheel1_z: veh.u()[w1.dof_z],
             wheel1_gap_z: used[0],
             wheel1_force_z: forces[0].0,
             iterations,
