@@ -2,6 +2,7 @@
 #![doc = include_str!("../README.md")]
 
 pub mod gap;
+pub mod gap_control;
 pub mod guidance;
 pub mod irregularity;
 pub mod levitation;
