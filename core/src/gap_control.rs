@@ -28,12 +28,14 @@
 //! gap returns to `h0` exactly (no integral needed in the outer loop).
 //!
 //! # Gains
-//! [`GapParams::designed`] gives `kp = 2.7e-3`, `kd = 3.8e-3 s`, `tf = 2 ms` per unit, found by
+//! [`GapParams::designed`] gives `kp = 4.0e-3`, `kd = 4.2e-3 s`, `tf = 2 ms` per unit, found by
 //! minimising the spectral abscissa of the linearised closed loop (inner law + outer PD + one
-//! magnet carrying a quarter of the Fig. 1 body on its suspension, rigid rail): poles at
-//! about −3.4 s⁻¹ and faster (`host-sim/src/stability/gap_loop.rs`, `docs/gap-loop.md`). The
+//! massless magnet carrying a quarter of the Fig. 1 body on its suspension, rigid rail):
+//! poles −3.17 ± 2.51j, −3.41, −6.84 ± 64.7j, −502 s⁻¹ (`host-sim/src/stability/gap_loop.rs`,
+//! `docs/gap-loop.md`). They are specific to that plant: with a 500 kg magnet mass the same
+//! gains are unstable (the analysis and the simulation agree, tested there). The
 //! gains are small because the inner integral (`ki = 600 s⁻¹` at the paper's values)
-//! integrates the reference: a 1 mm gap error moves the coil voltage by `ki·kp·η` ≈ 16 % of
+//! integrates the reference: a 1 mm gap error moves the coil voltage by `ki·kp·η` ≈ 24 % of
 //! `V_b` per second. SI: `Δg_ref = kp·(g0/h0)·Δh` (A/m per m).
 //!
 //! Configuration ([`GapParams`], f64) is apart from state ([`GapState`]); [`GapParams::compile`]
@@ -61,8 +63,8 @@ impl GapParams {
     /// the Fig. 1 body (module docs), reference bounded to ±50 % of `g0`.
     pub const fn designed() -> Self {
         GapParams {
-            kp: 2.7e-3,
-            kd: 3.8e-3,
+            kp: 4.0e-3,
+            kd: 4.2e-3,
             tf: 2e-3,
             x_ref_max: 0.5,
         }
