@@ -38,10 +38,18 @@
 //! integrates the reference: a 1 mm gap error moves the coil voltage by `ki·kp·η` ≈ 24 % of
 //! `V_b` per second. SI: `Δg_ref = kp·(g0/h0)·Δh` (A/m per m).
 //!
+//! # Guidance pairs
+//! Each magnet of a guidance pair ([`crate::guidance`]) may run the same loop on its own gap
+//! ([`GapLoop::update_pair`]). Linearised, the pair's differential mode
+//! `x_d = (x_R − x_L)/2` sees `η_d = −d/h0` and gives `F_y = 4·p0·x_d`: the levitation plant
+//! with twice the force gain; the common mode gives no force. With the designed gains and the
+//! Fig. 1 suspension that plant is stable too (tested in `host-sim/src/stability/gap_loop`).
+//!
 //! Configuration ([`GapParams`], f64) is apart from state ([`GapState`]); [`GapParams::compile`]
 //! converts once to the run-time type. No allocation, no panic.
 
-use crate::levitation::{Levitation, Output, ParamError, State};
+use crate::guidance::PairOutput;
+use crate::levitation::{Levitation, Output, ParamError, State, Status};
 use crate::scalar::Scalar;
 
 /// Outer-loop gains, per unit of the inner law's `(g0, h0)` (see the module docs).
@@ -214,12 +222,60 @@ impl<S: Scalar> GapLoop<S> {
         let (x_ref, reference_limited) = self.reference(st, &mut ov);
         let mut out = inner.update_with_reference(&mut st.inner, h_next, x_ref);
         if ov {
-            out.status = out.status.union(crate::levitation::Status::OVERFLOW);
+            out.status = out.status.union(Status::OVERFLOW);
         }
         GapOutput {
             inner: out,
             x_ref,
             reference_limited,
+        }
+    }
+}
+
+/// State of a guidance pair under the gap loop: one [`GapState`] per magnet.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct GapPairState<S> {
+    /// Left magnet (gap `h0 + d`).
+    pub left: GapState<S>,
+    /// Right magnet (gap `h0 − d`).
+    pub right: GapState<S>,
+}
+
+impl<S: Scalar> GapLoop<S> {
+    /// Both magnets in equilibrium at relative lateral position `d` (m), as
+    /// [`crate::guidance::initial_state`].
+    pub fn pair_equilibrium_state(&self, inner: &Levitation<S>, d: f64) -> GapPairState<S> {
+        let h0 = inner.params().h0;
+        GapPairState {
+            left: self.equilibrium_state(inner, h0 + d),
+            right: self.equilibrium_state(inner, h0 - d),
+        }
+    }
+
+    /// One outer step of both magnets of a guidance pair, each under this loop on its own gap;
+    /// `d_pu = (y_w − y_g + r_y)/h0` at the end of the step (as [`crate::guidance::update`]).
+    pub fn update_pair(
+        &self,
+        inner: &Levitation<S>,
+        st: &mut GapPairState<S>,
+        d_pu: S,
+    ) -> PairOutput<S> {
+        let mut ov = false;
+        let h_left = S::ONE.sadd(d_pu, &mut ov);
+        let h_right = S::ONE.ssub(d_pu, &mut ov);
+        let left = self.update(inner, &mut st.left, h_left).inner;
+        let right = self.update(inner, &mut st.right, h_right).inner;
+        let force_y = right.force.ssub(left.force, &mut ov);
+        let mut status = left.status.union(right.status);
+        if ov {
+            status = status.union(Status::OVERFLOW);
+        }
+        PairOutput {
+            left,
+            right,
+            force_y,
+            status,
         }
     }
 }

@@ -141,3 +141,36 @@ fn bad_gains_are_named() {
     assert_eq!(gp.validate(), Err(ParamError::NotPositive("gap x_ref_max")));
     assert!(GapParams::designed().compile::<f64>(0.0).is_err());
 }
+
+#[test]
+fn pair_with_zero_gains_is_the_papers_pair() {
+    let inner = Params::paper_wheel(1e-3).compile::<f64>().unwrap();
+    let gl = GapParams {
+        kp: 0.0,
+        kd: 0.0,
+        ..GapParams::designed()
+    }
+    .compile::<f64>(1e-3)
+    .unwrap();
+    let mut a = crate::guidance::initial_state(&inner, 2e-4);
+    let mut b = gl.pair_equilibrium_state(&inner, 2e-4);
+    for k in 0..200 {
+        let d = 0.02 + 0.05 * (k as f64 * 0.07).sin();
+        let oa = crate::guidance::update(&inner, &mut a, d);
+        let ob = gl.update_pair(&inner, &mut b, d);
+        assert_eq!(oa, ob);
+    }
+}
+
+#[test]
+fn pair_reference_pulls_towards_the_centre() {
+    // Wheel 1 mm right of centre: the left gap is open (η_L = 0.1), so the left reference
+    // rises and the right one falls: the loop pulls left, against the displacement.
+    let inner = Params::paper_wheel(1e-3).compile::<f64>().unwrap();
+    let gl = GapParams::designed().compile::<f64>(1e-3).unwrap();
+    let mut st = gl.pair_equilibrium_state(&inner, 1e-3);
+    let mut ov = false;
+    let (rl, _) = gl.reference(&mut st.left, &mut ov);
+    let (rr, _) = gl.reference(&mut st.right, &mut ov);
+    assert!(rl > 0.0 && rr < 0.0 && (rl + rr).abs() < 1e-15);
+}
