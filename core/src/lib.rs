@@ -5,6 +5,7 @@ pub mod gap;
 pub mod gap_control;
 pub mod guidance;
 pub mod irregularity;
+pub mod irregularity_fast;
 pub mod levitation;
 pub mod scalar;
 mod trig;
