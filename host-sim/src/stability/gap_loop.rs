@@ -80,6 +80,23 @@ impl GapLoopPlant {
         Ok(GapLoopPlant { a, states })
     }
 
+    /// The differential mode of a guidance pair under the same loop (model.md §2): each
+    /// magnet runs the loop on its own gap, `x_d = (x_R − x_L)/2` sees `η_d = −d/h0` and the
+    /// net force is `G_R − G_L ≈ 4·p0·x_d`: this plant with the force column doubled (`d`
+    /// in place of `z_m`, the suspension's lateral spring–damper and the same body mass).
+    pub fn guidance_pair(
+        params: &Params,
+        s: &Suspension,
+        gains: &GapParams,
+    ) -> Result<Self, String> {
+        let mut pl = Self::new(params, s, gains)?;
+        let ix = pl.a.nrows() - 3;
+        for i in 0..ix {
+            pl.a[(i, ix)] *= 2.0;
+        }
+        Ok(pl)
+    }
+
     /// Closed-loop poles (1/s), sorted by descending real part.
     pub fn poles(&self) -> Vec<Complex> {
         let mut out: Vec<Complex> = self

@@ -51,6 +51,30 @@ fn designed_gains_stabilise_the_fig1_plant_near_the_optimum() {
     assert!((kp / g.kp - 1.0).abs() < 0.1 && (kd / g.kd - 1.0).abs() < 0.1);
 }
 
+#[test]
+fn guidance_pair_is_stable_with_the_designed_gains() {
+    // Differential mode of a pair: twice the force gain. Unstable under the paper's law
+    // alone, stable with the gap loop (abscissa nearer zero than for levitation).
+    let p = paper();
+    let g = GapParams::designed();
+    let a = GapLoopPlant::guidance_pair(&p, &Suspension::FIG1, &g)
+        .unwrap()
+        .abscissa();
+    assert!(a < -1.0, "{a}");
+    let zero = GapParams {
+        kp: 0.0,
+        kd: 0.0,
+        ..g
+    };
+    let a0 = GapLoopPlant::guidance_pair(&p, &Suspension::FIG1, &zero)
+        .unwrap()
+        .abscissa();
+    assert!(a0 > 1.0, "{a0}");
+    // The force column really is doubled: ∂(ż_m)/∂x = 2·(2·p0/c) for the massless magnet.
+    let pl = GapLoopPlant::guidance_pair(&p, &Suspension::FIG1, &g).unwrap();
+    assert!((pl.a[(0, 3)] - 4.0 * p.p0 / Suspension::FIG1.c).abs() < 1e-9);
+}
+
 /// One magnet under a rigid rail carrying its body through a spring–damper, nonlinear
 /// (`F = p0·(g/g0)²` from the core, Eq. 1), integrated by RK4 with the force held over each
 /// step; the core (inner law + gap loop, or the paper's law alone) is updated with the gap at
