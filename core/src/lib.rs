@@ -2,8 +2,10 @@
 #![doc = include_str!("../README.md")]
 
 pub mod gap;
+pub mod gap_control;
 pub mod guidance;
 pub mod irregularity;
+pub mod irregularity_fast;
 pub mod levitation;
 pub mod scalar;
 mod trig;

@@ -1,8 +1,11 @@
 //! One sample of the rail irregularity (Eq. 3) by the direct 2000-term sum (Table 1, Z), in
-//! f64 and f32: the cost a controller pays per time step if it evaluates r(x) itself.
+//! f64 and f32: the cost a controller pays per time step if it evaluates r(x) itself; and by
+//! the core's fast generator (`irregularity_fast::Table`, cubic interpolation on a 5 cm grid:
+//! relative RMS error ≤ 1.8e-6), in f64 (host Vec) and f32 (fixed-capacity array).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use maglev_core::irregularity::{Direction, Irregularity, PsdParams};
+use maglev_core::irregularity_fast::{fill, FixedTable, Table};
 
 fn one_sample(c: &mut Criterion) {
     let p = PsdParams::TABLE1_Z;
@@ -24,5 +27,31 @@ fn one_sample(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, one_sample);
+fn fast_sample(c: &mut Criterion) {
+    let p = PsdParams::TABLE1_Z;
+    let g64: Irregularity<f64> = Irregularity::new(&p, Direction::Z, 1).expect("Table 1 is valid");
+    let g32: Irregularity<f32> = Irregularity::new(&p, Direction::Z, 1).expect("Table 1 is valid");
+    let h = 0.05;
+    let mut ov = false;
+    let mut v = vec![0.0f64; 4096];
+    fill(&g64, 0.0, h, &mut v, &mut ov);
+    let t64 = Table::new(0.0, h, v).expect("valid grid");
+    let mut a = [0.0f32; 4096];
+    fill(&g32, 0.0, h, &mut a, &mut ov);
+    let t32: FixedTable<f32, 4096> = Table::new(0.0, h, a).expect("valid grid");
+    c.bench_function("irregularity_table_cubic_f64", |b| {
+        b.iter(|| {
+            let (mut out, mut ov) = (false, false);
+            t64.eval(black_box(123.456f64), &mut out, &mut ov)
+        })
+    });
+    c.bench_function("irregularity_table_cubic_f32", |b| {
+        b.iter(|| {
+            let (mut out, mut ov) = (false, false);
+            t32.eval(black_box(123.456f64), &mut out, &mut ov)
+        })
+    });
+}
+
+criterion_group!(benches, one_sample, fast_sample);
 criterion_main!(benches);

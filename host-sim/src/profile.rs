@@ -2,13 +2,15 @@
 //!
 //! A passage asks for r(x) at every wheel, every Newton iteration, every step — hundreds of
 //! thousands of 2000-term sums for the modal reference at Δt = 1e-5 s. The profile is
-//! deterministic, so it is sampled once on a fine grid (the CLI's exact-phase sweep) and read
-//! back by 4-point Lagrange interpolation: with h = 5 mm and the shortest wavelength
-//! 2π/ω_u = 1 m the interpolation error is below 1e-6 of the shortest component's amplitude
-//! (checked against the direct sum in the tests below).
+//! deterministic, so it is sampled once on a fine grid (the CLI's exact-phase sweep, fast on a
+//! uniform grid) and read back by the core's fast generator
+//! (`maglev_core::irregularity_fast::Table`, 4-point Lagrange): with h = 5 mm and the
+//! shortest wavelength 2π/ω_u = 1 m the interpolation error is below 1e-6 of the shortest
+//! component's amplitude (checked against the direct sum in the tests below).
 
 use crate::cli::irregularity::sweep;
 use maglev_core::irregularity::{Direction, Irregularity, PsdParams};
+use maglev_core::irregularity_fast::Table;
 
 /// Grid spacing (m).
 pub const GRID: f64 = 0.005;
@@ -16,8 +18,7 @@ pub const GRID: f64 = 0.005;
 /// r(x) on `[x0, x0 + (n−1)·GRID]`, zero outside (never needed: the extent covers the run).
 #[derive(Clone, Debug)]
 pub struct Profile {
-    x0: f64,
-    r: Vec<f64>,
+    table: Table<f64, Vec<f64>>,
 }
 
 impl Profile {
@@ -34,25 +35,14 @@ impl Profile {
             Ok(())
         })
         .map_err(|_| "irregularity sweep failed".to_string())?;
-        Ok(Profile { x0, r })
+        let table = Table::new(x0, GRID, r).map_err(|e| format!("{e:?}"))?;
+        Ok(Profile { table })
     }
 
-    /// r at x (m), by 4-point Lagrange interpolation.
+    /// r at x (m), by 4-point Lagrange interpolation (0 outside the sampled extent).
     pub fn at(&self, x: f64) -> f64 {
-        let s = (x - self.x0) / GRID;
-        let i = s.floor();
-        let (i, u) = (i as isize, s - i);
-        if i < 1 || i as usize + 2 >= self.r.len() {
-            return 0.0;
-        }
-        let i = i as usize;
-        let (p0, p1, p2, p3) = (self.r[i - 1], self.r[i], self.r[i + 1], self.r[i + 2]);
-        // Lagrange basis on nodes −1, 0, 1, 2 at u ∈ [0, 1).
-        let l0 = -u * (u - 1.0) * (u - 2.0) / 6.0;
-        let l1 = (u + 1.0) * (u - 1.0) * (u - 2.0) / 2.0;
-        let l2 = -(u + 1.0) * u * (u - 2.0) / 2.0;
-        let l3 = (u + 1.0) * u * (u - 1.0) / 6.0;
-        p0 * l0 + p1 * l1 + p2 * l2 + p3 * l3
+        let (mut outside, mut ov) = (false, false);
+        self.table.eval(x, &mut outside, &mut ov)
     }
 }
 

@@ -2,7 +2,9 @@
 //! overrides. Conversion to SI happens here, once; the solvers never see kN or tonnes.
 
 use crate::guideway::{BeamSection, Bridge};
+use crate::simulation::Law;
 use crate::vehicle::Fig1;
+use maglev_core::gap_control::GapParams;
 use maglev_core::{Interpolation, Params};
 use serde::Deserialize;
 
@@ -16,7 +18,7 @@ pub const BUNDLED: [(&str, &str); 2] = [
 ];
 
 /// Short `--set` keys and the scenario key each stands for.
-pub const SHORT_KEYS: [(&str, &str); 9] = [
+pub const SHORT_KEYS: [(&str, &str); 10] = [
     ("speed", "run.speed_m_per_s"),
     ("model", "run.model"),
     ("elements", "run.elements_per_span"),
@@ -25,6 +27,7 @@ pub const SHORT_KEYS: [(&str, &str); 9] = [
     ("t_end", "run.t_end_s"),
     ("nsub", "controller.nsub"),
     ("alpha", "controller.alpha"),
+    ("law", "controller.law"),
     ("seed", "irregularity.seed"),
 ];
 
@@ -112,6 +115,13 @@ pub struct ControllerSection {
     pub nsub: u32,
     pub interp: String,
     pub vmax_V: f64,
+    /// `paper` (Eq. 8–14 alone, the default) or `gap-loop` (the outer gap loop of
+    /// `maglev_core::gap_control` at its designed gains around the paper's law).
+    #[serde(default = "default_law")]
+    pub law: String,
+}
+fn default_law() -> String {
+    "paper".into()
 }
 
 #[derive(Deserialize, Debug, Clone)]
@@ -264,6 +274,7 @@ impl Scenario {
                 }
                 self.fig1()?;
                 self.controller_params()?;
+                self.law()?;
             }
             VehicleSection::MovingForce { force_kN, .. } => {
                 if !force_kN.is_finite() {
@@ -353,6 +364,17 @@ impl Scenario {
         }
     }
 
+    /// The levitation law (`controller.law`); the paper's without a controller section.
+    pub fn law(&self) -> Result<Law, String> {
+        match self.controller.as_ref().map_or("paper", |c| c.law.as_str()) {
+            "paper" => Ok(Law::Paper),
+            "gap-loop" => Ok(Law::GapLoop(GapParams::designed())),
+            other => Err(format!(
+                "controller.law must be `paper` or `gap-loop`, got `{other}`"
+            )),
+        }
+    }
+
     /// The controller parameters in SI (p0 is set per wheel by the simulation).
     pub fn controller_params(&self) -> Result<Params, String> {
         let c = self
@@ -427,6 +449,11 @@ mod tests {
         assert!(e.contains("speed_m_per_s"), "{e}");
         let e = load("paper-4.2", &["model=beam".into()]).unwrap_err();
         assert!(e.contains("run.model"), "{e}");
+        assert_eq!(load("paper-4.2", &[]).unwrap().law().unwrap(), Law::Paper);
+        let s = load("paper-4.2", &["law=gap-loop".into()]).unwrap();
+        assert_eq!(s.law().unwrap(), Law::GapLoop(GapParams::designed()));
+        let e = load("paper-4.2", &["law=pid".into()]).unwrap_err();
+        assert!(e.contains("controller.law"), "{e}");
         let e = load("nonexistent-scenario", &[]).unwrap_err();
         assert!(e.contains("paper-4.2"), "{e}");
     }

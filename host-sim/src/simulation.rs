@@ -11,8 +11,9 @@
 use crate::guideway::{Guideway, PointLoad, SectionMotion};
 use crate::newmark::Newmark;
 use crate::vehicle::VehicleModel;
-use maglev_core::guidance::{self, PairState};
-use maglev_core::{Levitation, Params, State, Status};
+use maglev_core::gap_control::{GapLoop, GapPairState, GapParams, GapState};
+use maglev_core::guidance;
+use maglev_core::{Levitation, Params, Status};
 use nalgebra::DVector;
 
 /// What runs over the guideway.
@@ -40,6 +41,16 @@ impl Profiles {
     }
 }
 
+/// Which levitation law each magnet runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Law {
+    /// The paper's PI law on `g = i/h` alone (Eq. 8–14).
+    Paper,
+    /// The outer gap loop (`maglev_core::gap_control`) setting the paper's law's reference,
+    /// on every levitation and guidance magnet.
+    GapLoop(GapParams),
+}
+
 /// Run settings (SI).
 pub struct Settings {
     pub speed: f64,
@@ -47,6 +58,8 @@ pub struct Settings {
     pub t_end: f64,
     /// Controller parameters (p0 is replaced by each wheel's static load).
     pub controller: Params,
+    /// Levitation law.
+    pub law: Law,
     /// Convergence tolerance on the gaps between two iterations (m).
     pub tolerance: f64,
     pub max_iterations: u32,
@@ -77,8 +90,12 @@ pub struct Outcome {
 
 struct WheelCtl {
     lev: Levitation<f64>,
-    lev_state: State<f64>,
-    pair: PairState<f64>,
+    /// The outer gap loop, when selected.
+    outer: Option<GapLoop<f64>>,
+    /// Inner state (and the outer loop's filter, unused under the paper's law).
+    lev_state: GapState<f64>,
+    /// Guidance pair (the filters unused under the paper's law).
+    pair: GapPairState<f64>,
 }
 
 /// Runs from t = 0 to `t_end`. `progress` is called with the fraction done now and then.
@@ -138,11 +155,32 @@ pub fn simulate<G: Guideway>(
                 p.p0 = p0;
                 p.dt = dt;
                 let lev = p.compile::<f64>().map_err(|e| e.to_string())?;
+                let outer = match s.law {
+                    Law::Paper => None,
+                    Law::GapLoop(g) => Some(g.compile::<f64>(dt).map_err(|e| e.to_string())?),
+                };
                 let (gy, gz) = ((profiles.y)(w.x0), (profiles.z)(w.x0));
                 let h_init = p.h0 + gz;
+                let inner = lev.equilibrium_state(h_init);
                 ctl.push(WheelCtl {
-                    lev_state: lev.equilibrium_state(h_init),
-                    pair: guidance::initial_state(&lev, gy),
+                    lev_state: GapState {
+                        inner,
+                        q: inner.eta,
+                    },
+                    outer,
+                    pair: {
+                        let p = guidance::initial_state(&lev, gy);
+                        GapPairState {
+                            left: GapState {
+                                inner: p.left,
+                                q: p.left.eta,
+                            },
+                            right: GapState {
+                                inner: p.right,
+                                q: p.right.eta,
+                            },
+                        }
+                    },
                     lev,
                 });
             }
@@ -153,7 +191,7 @@ pub fn simulate<G: Guideway>(
             let mut loads = vec![PointLoad::default(); nw];
             let mut gaps_used = vec![(0.0, 0.0); nw];
             let mut forces = vec![(0.0, 0.0); nw];
-            let mut trial: Vec<(State<f64>, PairState<f64>)> = Vec::with_capacity(nw);
+            let mut trial: Vec<(GapState<f64>, GapPairState<f64>)> = Vec::with_capacity(nw);
             for n in 1..=steps {
                 let t = n as f64 * dt;
                 let xs: Vec<f64> = v.wheels.iter().map(|w| w.x0 + s.speed * t).collect();
@@ -184,9 +222,23 @@ pub fn simulate<G: Guideway>(
                         let (hz, dy) = current[i];
                         let h0 = c.lev.params().h0;
                         let mut st = c.lev_state;
-                        let out = c.lev.update(&mut st, hz / h0);
+                        let out = match &c.outer {
+                            Some(o) => o.update(&c.lev, &mut st, hz / h0).inner,
+                            None => c.lev.update(&mut st.inner, hz / h0),
+                        };
                         let mut pair = c.pair;
-                        let pout = guidance::update(&c.lev, &mut pair, dy / h0);
+                        let pout = match &c.outer {
+                            Some(o) => o.update_pair(&c.lev, &mut pair, dy / h0),
+                            None => {
+                                let mut ps = guidance::PairState {
+                                    left: pair.left.inner,
+                                    right: pair.right.inner,
+                                };
+                                let out = guidance::update(&c.lev, &mut ps, dy / h0);
+                                (pair.left.inner, pair.right.inner) = (ps.left, ps.right);
+                                out
+                            }
+                        };
                         status = status.union(out.status).union(pout.status);
                         let p0 = c.lev.params().p0;
                         forces[i] = (out.force * p0, pout.force_y * p0);

@@ -472,6 +472,15 @@ impl<S: Scalar> Levitation<S> {
     /// `h/h0`) and Eq. 14 runs `n_sub` times with the gap interpolated (model.md §4). Never
     /// panics; every anomaly is reported in [`Output::status`].
     pub fn update(&self, st: &mut State<S>, h_next: S) -> Output<S> {
+        self.update_with_reference(st, h_next, S::ZERO)
+    }
+
+    /// [`Levitation::update`] with the reference `g_ref = g0·(1 + x_ref)` in place of `g0`
+    /// in the error (Eq. 8: `e = g_ref − g`), held over the step: the inner loop of an outer
+    /// (gap) loop such as [`crate::gap_control`]. Per unit this adds `kpd·x_ref` to `N`,
+    /// `2·kih·x_ref` to the integral's increment and `kpv·x_ref` to the voltage (module docs);
+    /// `x_ref = 0` is exactly [`Levitation::update`].
+    pub fn update_with_reference(&self, st: &mut State<S>, h_next: S, x_ref: S) -> Output<S> {
         let mut ov = false;
         let mut status = Status::default();
         // NaN (floats only) is the one input that cannot be clamped meaningfully.
@@ -518,7 +527,7 @@ impl<S: Scalar> Levitation<S> {
                 let quad = s.smul(b2, &mut ov);
                 eta0.sadd(s.smul(b1.sadd(quad, &mut ov), &mut ov), &mut ov)
             };
-            let (x1, y1, v1, sub) = self.substep(x, y, eta, &mut ov);
+            let (x1, y1, v1, sub) = self.substep(x, y, eta, x_ref, &mut ov);
             status = status.union(sub);
             x = x1;
             y = y1;
@@ -535,14 +544,18 @@ impl<S: Scalar> Levitation<S> {
         out
     }
 
-    /// One application of Eq. 14 over a sub-step ending at gap deviation `eta`.
+    /// One application of Eq. 14 over a sub-step ending at gap deviation `eta`, with the
+    /// reference `g0·(1 + r)` (`r = 0`: the paper's law).
     #[inline]
-    fn substep(&self, x: S, y: S, eta: S, ov: &mut bool) -> (S, S, S, Status) {
+    fn substep(&self, x: S, y: S, eta: S, r: S, ov: &mut bool) -> (S, S, S, Status) {
         let mut status = Status::default();
         let one = S::ONE;
-        // N = y − η − x·(1 + kpd + η)
+        // N = y − η − x·(1 + kpd + η) + kpd·r
         let factor = one.sadd(self.kpd, ov).sadd(eta, ov);
-        let num = y.ssub(eta, ov).ssub(x.smul(factor, ov), ov);
+        let num = y
+            .ssub(eta, ov)
+            .ssub(x.smul(factor, ov), ov)
+            .sadd(self.kpd.smul(r, ov), ov);
         // 1 + cα(1 + kph) + cα·η
         let den = one.sadd(self.ca1, ov).sadd(self.ca.smul(eta, ov), ov);
         let mut x1 = x.sadd(self.c.smul(num, ov).sdiv(den, ov), ov);
@@ -552,8 +565,9 @@ impl<S: Scalar> Levitation<S> {
             status = status.union(Status::CURRENT_CLAMPED);
         }
         // Trapezoidal integral (Eq. 12) and the voltage at the end of the sub-step (Eq. 11).
-        let y1 = y.ssub(self.kih.smul(x.sadd(x1, ov), ov), ov);
-        let v1 = one.sadd(y1, ov).ssub(self.kpv.smul(x1, ov), ov);
+        let two_r = r.sadd(r, ov);
+        let y1 = y.ssub(self.kih.smul(x.sadd(x1, ov).ssub(two_r, ov), ov), ov);
+        let v1 = one.sadd(y1, ov).ssub(self.kpv.smul(x1.ssub(r, ov), ov), ov);
         let v_lim = self.v_max;
         if v1 > v_lim || v1 < v_lim.sneg(ov) {
             status = status.union(Status::VOLTAGE_SATURATED);

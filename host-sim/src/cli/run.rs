@@ -16,7 +16,7 @@ use std::time::Instant;
 pub struct Args {
     /// A scenario TOML file, or a bundled name (paper-4.2, moving-force).
     pub scenario: String,
-    /// Override a scenario value: speed, model, elements, modes, dt, t_end, nsub, alpha, seed,
+    /// Override a scenario value: speed, model, elements, modes, dt, t_end, nsub, alpha, law, seed,
     /// or section.key (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
@@ -53,6 +53,7 @@ pub fn execute(sc: &Scenario, progress: impl FnMut(f64)) -> Result<(Outcome, f64
             Load::Vehicle(_) => sc.controller_params()?,
             Load::MovingForce { .. } => maglev_core::Params::paper_wheel(dt),
         },
+        law: sc.law()?,
         tolerance: sc.run.tolerance_m,
         max_iterations: sc.run.max_iterations,
         midspan_x: bridge.spans[0] / 2.0,

@@ -5,9 +5,11 @@
 
 use super::control::ControllerArgs;
 use crate::stability::discrete::{self, Step};
+use crate::stability::gap_loop::GapLoopPlant;
 use crate::stability::gloop::Loop;
 use crate::stability::plant::{rigid_growth_rate, Plant, Suspension};
 use crate::stability::Complex;
+use maglev_core::gap_control::GapParams;
 use serde::Serialize;
 
 /// Output format.
@@ -79,6 +81,9 @@ pub struct Report {
     pub plant_magnet_mass_kg: f64,
     /// Growth rate of the gap mode if magnet and body were rigidly joined (1/s).
     pub rigid_gap_growth_per_s: f64,
+    /// Closed-loop poles of the same plant with the outer gap loop at its designed gains
+    /// (`maglev_core::gap_control`, docs/gap-loop.md) (1/s).
+    pub gap_loop_poles: Vec<Complex>,
 }
 
 /// Computes the report (no printing).
@@ -114,6 +119,7 @@ pub fn report(args: &Args) -> Result<Report, String> {
         plant_body_mass_kg: plant.body_mass,
         plant_magnet_mass_kg: args.magnet_mass,
         rigid_gap_growth_per_s: rigid_growth_rate(&p),
+        gap_loop_poles: GapLoopPlant::new(&p, &susp, &GapParams::designed())?.poles(),
     })
 }
 
@@ -149,7 +155,8 @@ pub fn table(r: &Report) -> String {
          plant states               {}\n\
          plant poles (1/s)          {}\n\
          body / magnet mass (kg)    {:.3} / {:.3}\n\
-         rigid gap growth (1/s)     {:.6}\n",
+         rigid gap growth (1/s)     {:.6}\n\
+         gap-loop poles (1/s)       {}\n",
         r.alpha,
         r.dt_s,
         r.n_sub,
@@ -165,6 +172,7 @@ pub fn table(r: &Report) -> String {
         r.plant_body_mass_kg,
         r.plant_magnet_mass_kg,
         r.rigid_gap_growth_per_s,
+        list(&r.gap_loop_poles),
     )
 }
 

@@ -17,6 +17,7 @@
 //! `y = KI·e_a/(R0·i0) − 1`, `η = h/h0 − 1`.
 
 pub mod discrete;
+pub mod gap_loop;
 pub mod gloop;
 pub mod numerics;
 pub mod plant;
