@@ -3,7 +3,7 @@
 
 use crate::guideway::{BeamSection, Bridge};
 use crate::vehicle::Fig1;
-use maglev_core::{Interpolation, Params};
+use maglev_core::{Interpolation, Params, Scheme};
 use serde::Deserialize;
 
 /// Bundled scenarios: (name, TOML text).
@@ -16,7 +16,7 @@ pub const BUNDLED: [(&str, &str); 2] = [
 ];
 
 /// Short `--set` keys and the scenario key each stands for.
-pub const SHORT_KEYS: [(&str, &str); 9] = [
+pub const SHORT_KEYS: [(&str, &str); 10] = [
     ("speed", "run.speed_m_per_s"),
     ("model", "run.model"),
     ("elements", "run.elements_per_span"),
@@ -25,6 +25,7 @@ pub const SHORT_KEYS: [(&str, &str); 9] = [
     ("t_end", "run.t_end_s"),
     ("nsub", "controller.nsub"),
     ("alpha", "controller.alpha"),
+    ("scheme", "controller.scheme"),
     ("seed", "irregularity.seed"),
 ];
 
@@ -112,6 +113,12 @@ pub struct ControllerSection {
     pub nsub: u32,
     pub interp: String,
     pub vmax_V: f64,
+    /// `paper` (Eq. 14 with `nsub` sub-steps, the default) or `accurate` (Gauss–Legendre).
+    #[serde(default = "default_scheme")]
+    pub scheme: String,
+}
+fn default_scheme() -> String {
+    "paper".into()
 }
 
 #[derive(Deserialize, Debug, Clone)]
@@ -368,6 +375,15 @@ impl Scenario {
                 ))
             }
         };
+        let scheme = match c.scheme.as_str() {
+            "paper" => Scheme::Paper,
+            "accurate" => Scheme::Accurate,
+            other => {
+                return Err(format!(
+                    "controller.scheme must be `paper` or `accurate`, got `{other}`"
+                ))
+            }
+        };
         let p = Params {
             i0: c.i0_A,
             h0: c.h0_m,
@@ -380,6 +396,7 @@ impl Scenario {
             n_sub: c.nsub,
             interpolation,
             v_max: c.vmax_V,
+            scheme,
         };
         p.validate().map_err(|e| format!("controller: {e}"))?;
         Ok(p)
@@ -427,6 +444,18 @@ mod tests {
         assert!(e.contains("speed_m_per_s"), "{e}");
         let e = load("paper-4.2", &["model=beam".into()]).unwrap_err();
         assert!(e.contains("run.model"), "{e}");
+        let s = load("paper-4.2", &["scheme=accurate".into()]).unwrap();
+        assert_eq!(s.controller_params().unwrap().scheme, Scheme::Accurate);
+        assert_eq!(
+            load("paper-4.2", &[])
+                .unwrap()
+                .controller_params()
+                .unwrap()
+                .scheme,
+            Scheme::Paper
+        );
+        let e = load("paper-4.2", &["scheme=exact".into()]).unwrap_err();
+        assert!(e.contains("controller.scheme"), "{e}");
         let e = load("nonexistent-scenario", &[]).unwrap_err();
         assert!(e.contains("paper-4.2"), "{e}");
     }
