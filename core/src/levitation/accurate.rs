@@ -211,6 +211,7 @@ impl<S: Scalar> Gauss<S> {
     }
 
     /// One Gauss interval with the gap `e` at its two nodes (module docs, "The method").
+    #[inline]
     fn interval(
         &self,
         x: S,
@@ -297,17 +298,16 @@ impl<S: Scalar> Gauss<S> {
         xs
     }
 
-    /// `c·M⁻¹·r` by Cramer's rule (a singular `M` saturates and flags, never panics).
+    /// `c·M⁻¹·r` by Cramer's rule, one division (a singular `M` saturates and flags, never
+    /// panics).
     #[inline]
     fn solve(&self, m: &[[S; 2]; 2], r: [S; 2], ov: &mut bool) -> [S; 2] {
         let det = m[0][0]
             .smul(m[1][1], ov)
             .ssub(m[0][1].smul(m[1][0], ov), ov);
+        let scale = self.c.sdiv(det, ov);
         let w0 = m[1][1].smul(r[0], ov).ssub(m[0][1].smul(r[1], ov), ov);
         let w1 = m[0][0].smul(r[1], ov).ssub(m[1][0].smul(r[0], ov), ov);
-        [
-            self.c.smul(w0, ov).sdiv(det, ov),
-            self.c.smul(w1, ov).sdiv(det, ov),
-        ]
+        [w0.smul(scale, ov), w1.smul(scale, ov)]
     }
 }
