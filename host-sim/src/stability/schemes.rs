@@ -69,7 +69,7 @@ pub fn table() -> Result<String, String> {
                 let e = max_force_error(&rows, &reference, p0);
                 let _ = writeln!(
                     out,
-                    "| paper, n_sub = {n} | {n} sub-steps | {e:.2e} | {:.0} ns |",
+                    "| paper, n_sub = {n} | {n} sub-step(s) | {e:.2e} | {:.0} ns |",
                     t * 1e9
                 );
             }
