@@ -4,7 +4,7 @@
 use super::discrete::{self, critical_dt, critical_dt_bisect, spectral_radius, Step};
 use super::gloop::Loop;
 use super::plant::{rigid_growth_rate, Plant, Suspension};
-use maglev_core::{Params, State};
+use maglev_core::{Params, State, Status};
 
 fn paper(alpha: f64, dt: f64, n_sub: u32) -> Params {
     let mut p = Params::paper_wheel(dt);
@@ -148,6 +148,11 @@ fn simulated_decay(p: &Params, rho: f64) -> bool {
     let steps = ((8.0 * std::f64::consts::LN_10) / rho.ln().abs()).ceil() as usize;
     for _ in 0..steps {
         let out = ctrl.update(&mut st, 1.0);
+        // Reaching the current clamp (x < −1 from 1e-7) or the type's range within one step is
+        // growth by more than 10⁷: far past the 10² threshold below.
+        if out.status.contains(Status::CURRENT_CLAMPED) || out.status.contains(Status::OVERFLOW) {
+            return false;
+        }
         assert!(out.status.is_empty(), "{:?}", out.status);
         if norm(&st) > 1e2 * n0 {
             return false;
