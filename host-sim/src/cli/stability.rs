@@ -166,7 +166,7 @@ pub fn table(r: &Report) -> String {
     format!(
         "scheme                     {}\n\
          alpha                      {}\n\
-         dt, n_sub                  {} s, {}\n\
+         dt, n_sub or intervals     {} s, {}\n\
          tau, kpv, ki               {:.6} s, {:.6}, {:.6} 1/s\n\
          continuous poles (1/s)     {}\n\
          sub-step eigenvalues       {}\n\
@@ -179,7 +179,7 @@ pub fn table(r: &Report) -> String {
         scheme,
         r.alpha,
         r.dt_s,
-        r.n_sub,
+        r.intervals.unwrap_or(r.n_sub),
         r.tau_s,
         r.kpv,
         r.ki_per_s,
