@@ -63,8 +63,10 @@
 //!   same Gauss method, a 2×2 solve with `A` only) and the integral frozen (anti-windup),
 //!   [`Status::VOLTAGE_SATURATED`]. The bound is thus decided at interval ends, as the paper
 //!   scheme decides it at sub-step ends: where it switches on or off inside an interval the
-//!   switching instant is resolved only to the interval (a first-order error at that instant;
-//!   no event location).
+//!   switching instant is resolved only to the interval (no event location). Measured on a
+//!   saturating gap ramp (tests/tests/accurate_vs_paper.rs): 1.3e-5 of p0 at Δt = 1 ms
+//!   against 7.6e-7 for the paper scheme at n_sub = 1000, and 9.5e-7 at Δt = 0.5 ms — while the
+//!   bound switches, this scheme is not more accurate than the paper's internal loop.
 //! * Collision, invalid input and overflow are handled by [`super::Levitation::update`] before
 //!   and after this module, identically for both schemes.
 
