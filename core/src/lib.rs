@@ -10,5 +10,7 @@ pub mod levitation;
 pub mod scalar;
 mod trig;
 
-pub use levitation::{Interpolation, Levitation, Output, ParamError, Params, State, Status};
+pub use levitation::{
+    Interpolation, Levitation, Output, ParamError, Params, Scheme, State, Status,
+};
 pub use scalar::Scalar;

@@ -113,6 +113,8 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
                 n_sub: 1,
                 interpolation: Interpolation::Linear,
                 v_max: cfg.v_max,
+                // One control tick per update: the paper's Eq. 14 is the firmware's law.
+                scheme: maglev_core::Scheme::Paper,
             };
             let law = p.compile::<S>().map_err(ConfigError::Law)?;
             let coil = Params {

@@ -5,7 +5,7 @@ use crate::guideway::{BeamSection, Bridge};
 use crate::simulation::Law;
 use crate::vehicle::Fig1;
 use maglev_core::gap_control::GapParams;
-use maglev_core::{Interpolation, Params};
+use maglev_core::{Interpolation, Params, Scheme};
 use serde::Deserialize;
 
 /// Bundled scenarios: (name, TOML text).
@@ -18,7 +18,7 @@ pub const BUNDLED: [(&str, &str); 2] = [
 ];
 
 /// Short `--set` keys and the scenario key each stands for.
-pub const SHORT_KEYS: [(&str, &str); 10] = [
+pub const SHORT_KEYS: [(&str, &str); 11] = [
     ("speed", "run.speed_m_per_s"),
     ("model", "run.model"),
     ("elements", "run.elements_per_span"),
@@ -28,6 +28,7 @@ pub const SHORT_KEYS: [(&str, &str); 10] = [
     ("nsub", "controller.nsub"),
     ("alpha", "controller.alpha"),
     ("law", "controller.law"),
+    ("scheme", "controller.scheme"),
     ("seed", "irregularity.seed"),
 ];
 
@@ -119,8 +120,14 @@ pub struct ControllerSection {
     /// `maglev_core::gap_control` at its designed gains around the paper's law).
     #[serde(default = "default_law")]
     pub law: String,
+    /// `paper` (Eq. 14 with `nsub` sub-steps, the default) or `accurate` (Gauss–Legendre).
+    #[serde(default = "default_scheme")]
+    pub scheme: String,
 }
 fn default_law() -> String {
+    "paper".into()
+}
+fn default_scheme() -> String {
     "paper".into()
 }
 
@@ -390,6 +397,15 @@ impl Scenario {
                 ))
             }
         };
+        let scheme = match c.scheme.as_str() {
+            "paper" => Scheme::Paper,
+            "accurate" => Scheme::Accurate,
+            other => {
+                return Err(format!(
+                    "controller.scheme must be `paper` or `accurate`, got `{other}`"
+                ))
+            }
+        };
         let p = Params {
             i0: c.i0_A,
             h0: c.h0_m,
@@ -402,6 +418,7 @@ impl Scenario {
             n_sub: c.nsub,
             interpolation,
             v_max: c.vmax_V,
+            scheme,
         };
         p.validate().map_err(|e| format!("controller: {e}"))?;
         Ok(p)
@@ -454,6 +471,18 @@ mod tests {
         assert_eq!(s.law().unwrap(), Law::GapLoop(GapParams::designed()));
         let e = load("paper-4.2", &["law=pid".into()]).unwrap_err();
         assert!(e.contains("controller.law"), "{e}");
+        let s = load("paper-4.2", &["scheme=accurate".into()]).unwrap();
+        assert_eq!(s.controller_params().unwrap().scheme, Scheme::Accurate);
+        assert_eq!(
+            load("paper-4.2", &[])
+                .unwrap()
+                .controller_params()
+                .unwrap()
+                .scheme,
+            Scheme::Paper
+        );
+        let e = load("paper-4.2", &["scheme=exact".into()]).unwrap_err();
+        assert!(e.contains("controller.scheme"), "{e}");
         let e = load("nonexistent-scenario", &[]).unwrap_err();
         assert!(e.contains("paper-4.2"), "{e}");
     }

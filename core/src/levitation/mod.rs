@@ -43,8 +43,16 @@
 //! * Arithmetic overflow saturates and flags [`Status::OVERFLOW`] (see [`crate::scalar`]).
 //! * Parabolic interpolation needs `h^{t−Δt}`; before the first step the gap is taken to
 //!   have been constant.
+//!
+//! # Two schemes ([`Scheme`])
+//! [`Scheme::Paper`] (the default) is Eq. 14 applied `n_sub` times per outer step, as above: a
+//! first-order method for the coil + PI equations (docs/numerics.md). [`Scheme::Accurate`]
+//! integrates the same continuous system — the limit of the paper scheme as `n_sub → ∞` — by
+//! the 2-stage Gauss–Legendre method (order 4), see [`accurate`]; it ignores `n_sub` and `α`.
 
 use crate::scalar::Scalar;
+
+pub mod accurate;
 
 /// How the gap is interpolated inside one outer step for the internal loop (model.md §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,6 +62,17 @@ pub enum Interpolation {
     Linear,
     /// The parabola through `h^{t−Δt}`, `h^t`, `h^{t+Δt}`.
     Parabolic,
+}
+
+/// Which integrator advances the coil + PI equations over one outer step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Scheme {
+    /// The paper's Eq. 14, `n_sub` times per outer step (first order in `Δt/n_sub`).
+    #[default]
+    Paper,
+    /// 2-stage Gauss–Legendre on the limit system of Eq. 9 + 10 (order 4), see [`accurate`].
+    Accurate,
 }
 
 /// Controller parameters in SI units, designed in `f64` (paper §4.2 values from [`Params::paper`]).
@@ -82,6 +101,8 @@ pub struct Params {
     pub interpolation: Interpolation,
     /// Supply voltage bound (V), `f64::INFINITY` for none.
     pub v_max: f64,
+    /// Integrator of the coil + PI equations (the paper's by default).
+    pub scheme: Scheme,
 }
 
 /// Standard gravity used for the paper's loads (m/s²).
@@ -90,7 +111,7 @@ pub const GRAVITY: f64 = 9.81;
 impl Params {
     /// The paper's §4.2 values (i0 = 43 A, h0 = 0.01 m, R0 = 1 Ω, KP = 0.01, KI = 6.0) for a
     /// magnet carrying `p0` newtons, α = 0.5, one sub-step, linear interpolation, no
-    /// voltage bound.
+    /// voltage bound, the paper's scheme.
     pub const fn paper(p0: f64, dt: f64) -> Self {
         Params {
             i0: 43.0,
@@ -104,6 +125,7 @@ impl Params {
             n_sub: 1,
             interpolation: Interpolation::Linear,
             v_max: f64::INFINITY,
+            scheme: Scheme::Paper,
         }
     }
 
@@ -205,27 +227,18 @@ impl Params {
         tolerance: f64,
     ) -> Result<Levitation<S>, ParamError> {
         self.validate()?;
-        let coeffs = self.coefficients();
-        let mut out = [S::ZERO; 7];
-        for (slot, (name, value)) in out.iter_mut().zip(coeffs.iter()) {
-            let mut ov = false;
-            let s = S::from_f64(*value, &mut ov);
-            let rel = if *value == 0.0 {
-                0.0
-            } else {
-                ((s.to_f64() - value) / value).abs()
-            };
-            if ov || rel.is_nan() || rel > tolerance {
-                return Err(ParamError::Unrepresentable {
-                    name,
-                    value: *value,
-                    relative_error: rel,
-                    scalar: S::NAME,
-                });
+        // Only the coefficients of the selected scheme must be representable.
+        let mut paper = [S::ZERO; 7];
+        let mut gauss = accurate::Gauss::default();
+        match self.scheme {
+            Scheme::Paper => {
+                for (slot, (name, value)) in paper.iter_mut().zip(self.coefficients().iter()) {
+                    *slot = convert(name, *value, tolerance)?;
+                }
             }
-            *slot = s;
+            Scheme::Accurate => gauss = accurate::Gauss::compile(self, tolerance)?,
         }
-        let [c, kpd, ca, ca1, kih, kpv, inv_n] = out;
+        let [c, kpd, ca, ca1, kih, kpv, inv_n] = paper;
         // The voltage bound in per unit, capped inside the type's range so that the
         // saturated branch itself cannot overflow.
         let v_max_pu = (self.v_max / self.v_base()).min(0.9 * S::MAX_ABS);
@@ -254,8 +267,34 @@ impl Params {
             v_max,
             half,
             h_max,
+            gauss,
         })
     }
+}
+
+/// `value` in the run-time type, within relative error `tolerance` (else
+/// [`ParamError::Unrepresentable`] naming it).
+pub(crate) fn convert<S: Scalar>(
+    name: &'static str,
+    value: f64,
+    tolerance: f64,
+) -> Result<S, ParamError> {
+    let mut ov = false;
+    let s = S::from_f64(value, &mut ov);
+    let rel = if value == 0.0 {
+        0.0
+    } else {
+        ((s.to_f64() - value) / value).abs()
+    };
+    if ov || rel.is_nan() || rel > tolerance {
+        return Err(ParamError::Unrepresentable {
+            name,
+            value,
+            relative_error: rel,
+            scalar: S::NAME,
+        });
+    }
+    Ok(s)
 }
 
 /// Largest relative error accepted when converting a run-time coefficient to its type.
@@ -401,12 +440,19 @@ pub struct Levitation<S> {
     v_max: S,
     half: S,
     h_max: S,
+    gauss: accurate::Gauss<S>,
 }
 
 impl<S: Scalar> Levitation<S> {
     /// The parameters this controller was compiled from.
     pub fn params(&self) -> &Params {
         &self.params
+    }
+
+    /// Gauss intervals per outer step under [`Scheme::Accurate`] ([`accurate::intervals`]);
+    /// 0 under the paper scheme.
+    pub fn accurate_intervals(&self) -> u32 {
+        self.gauss.m()
     }
 
     /// Per-unit gap `h/h0` of a gap in metres, in the run-time type (saturating, flagged).
@@ -469,8 +515,9 @@ impl<S: Scalar> Levitation<S> {
     }
 
     /// One outer step Δt: the gap moves from the state's last gap to `h_next` (per unit,
-    /// `h/h0`) and Eq. 14 runs `n_sub` times with the gap interpolated (model.md §4). Never
-    /// panics; every anomaly is reported in [`Output::status`].
+    /// `h/h0`), interpolated inside the step (model.md §4), and the selected [`Scheme`] advances
+    /// the coil + PI equations: Eq. 14 `n_sub` times, or the Gauss–Legendre intervals of
+    /// [`accurate`]. Never panics; every anomaly is reported in [`Output::status`].
     pub fn update(&self, st: &mut State<S>, h_next: S) -> Output<S> {
         self.update_with_reference(st, h_next, S::ZERO)
     }
@@ -514,25 +561,22 @@ impl<S: Scalar> Levitation<S> {
                 (b1, b2)
             }
         };
-        let n = self.params.n_sub;
-        let mut s = S::ZERO;
-        let mut x = st.x;
-        let mut y = st.y;
-        let mut v = st.v;
-        for k in 1..=n {
-            let eta = if k == n {
-                eta1
-            } else {
-                s = s.sadd(self.inv_n, &mut ov);
-                let quad = s.smul(b2, &mut ov);
-                eta0.sadd(s.smul(b1.sadd(quad, &mut ov), &mut ov), &mut ov)
-            };
-            let (x1, y1, v1, sub) = self.substep(x, y, eta, x_ref, &mut ov);
-            status = status.union(sub);
-            x = x1;
-            y = y1;
-            v = v1;
-        }
+        let (x, y, v) = match self.params.scheme {
+            Scheme::Paper => self.paper_steps(st, eta0, eta1, b1, b2, x_ref, &mut status, &mut ov),
+            Scheme::Accurate => {
+                let eta = accurate::Gap { eta0, b1, b2 };
+                self.gauss.step(
+                    st.x,
+                    st.y,
+                    st.v,
+                    &eta,
+                    x_ref,
+                    self.v_max,
+                    &mut status,
+                    &mut ov,
+                )
+            }
+        };
         st.x = x;
         st.y = y;
         st.v = v;
@@ -542,6 +586,40 @@ impl<S: Scalar> Levitation<S> {
         status.raise_if(ov, Status::OVERFLOW);
         out.status = out.status.union(status);
         out
+    }
+
+    /// Eq. 14 `n_sub` times over the outer step, the gap interpolated (model.md §4), with
+    /// the reference `g0·(1 + x_ref)`: returns the new `(x, y, v)`.
+    #[allow(clippy::too_many_arguments)]
+    fn paper_steps(
+        &self,
+        st: &State<S>,
+        eta0: S,
+        eta1: S,
+        b1: S,
+        b2: S,
+        x_ref: S,
+        status: &mut Status,
+        ov: &mut bool,
+    ) -> (S, S, S) {
+        let n = self.params.n_sub;
+        let mut s = S::ZERO;
+        let (mut x, mut y, mut v) = (st.x, st.y, st.v);
+        for k in 1..=n {
+            let eta = if k == n {
+                eta1
+            } else {
+                s = s.sadd(self.inv_n, ov);
+                let quad = s.smul(b2, ov);
+                eta0.sadd(s.smul(b1.sadd(quad, ov), ov), ov)
+            };
+            let (x1, y1, v1, sub) = self.substep(x, y, eta, x_ref, ov);
+            *status = status.union(sub);
+            x = x1;
+            y = y1;
+            v = v1;
+        }
+        (x, y, v)
     }
 
     /// One application of Eq. 14 over a sub-step ending at gap deviation `eta`, with the
@@ -596,3 +674,5 @@ fn is_nan<S: PartialEq>(x: S) -> bool {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_accurate;

@@ -197,14 +197,20 @@ mod props {
             prop_oneof![Just(f64::INFINITY), 1.0f64..1e4],
             prop::bool::ANY,
             1e-6f64..1e-1,
+            prop::bool::ANY,
         )
-            .prop_map(|(kp, ki, alpha, n_sub, v_max, parabolic, dt)| {
+            .prop_map(|(kp, ki, alpha, n_sub, v_max, parabolic, dt, accurate)| {
                 let mut p = Params::paper_wheel(dt);
                 p.kp = kp;
                 p.ki = ki;
                 p.alpha = alpha;
                 p.n_sub = n_sub;
                 p.v_max = v_max;
+                p.scheme = if accurate {
+                    Scheme::Accurate
+                } else {
+                    Scheme::Paper
+                };
                 p.interpolation = if parabolic {
                     Interpolation::Parabolic
                 } else {
@@ -242,6 +248,9 @@ mod props {
         fn params_validation_never_panics(i0 in prop::num::f64::ANY, h0 in prop::num::f64::ANY, r0 in prop::num::f64::ANY, dt in prop::num::f64::ANY, n in 0u32..3) {
             let mut p = Params::paper_wheel(dt);
             p.i0 = i0; p.h0 = h0; p.r0 = r0; p.n_sub = n;
+            let _ = p.compile::<f64>();
+            let _ = p.compile::<I4F28>();
+            p.scheme = Scheme::Accurate;
             let _ = p.compile::<f64>();
             let _ = p.compile::<I4F28>();
         }

@@ -6,7 +6,7 @@
 //! CSV on stdout.
 
 use maglev_core::scalar::{I32F32, I4F28};
-use maglev_core::{Interpolation, Params, Scalar, Status};
+use maglev_core::{Interpolation, Params, Scalar, Scheme, Status};
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -36,9 +36,30 @@ impl From<InterpKind> for Interpolation {
     }
 }
 
+/// Integrator of the coil + PI equations (`maglev_core::Scheme`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SchemeKind {
+    /// The paper's Eq. 14, `--nsub` times per step (first order).
+    Paper,
+    /// Gauss–Legendre on the limit system (order 4); ignores `--nsub` and `--alpha`.
+    Accurate,
+}
+
+impl From<SchemeKind> for Scheme {
+    fn from(k: SchemeKind) -> Self {
+        match k {
+            SchemeKind::Paper => Scheme::Paper,
+            SchemeKind::Accurate => Scheme::Accurate,
+        }
+    }
+}
+
 /// Controller parameters shared by every subcommand that runs the law.
 #[derive(clap::Args, Debug, Clone)]
 pub struct ControllerArgs {
+    /// Integrator: the paper's Eq. 14 with sub-steps, or the accurate Gauss–Legendre scheme.
+    #[arg(long, value_enum, default_value_t = SchemeKind::Paper)]
+    pub scheme: SchemeKind,
     /// α of the α-method, in [0, 1].
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.5)]
     pub alpha: f64,
@@ -86,6 +107,7 @@ impl ControllerArgs {
             n_sub: self.n_sub,
             interpolation: self.interp.into(),
             v_max: self.vmax,
+            scheme: self.scheme.into(),
         };
         p.validate().map_err(|e| e.to_string())?;
         Ok(p)

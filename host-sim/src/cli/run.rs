@@ -16,8 +16,8 @@ use std::time::Instant;
 pub struct Args {
     /// A scenario TOML file, or a bundled name (paper-4.2, moving-force).
     pub scenario: String,
-    /// Override a scenario value: speed, model, elements, modes, dt, t_end, nsub, alpha, law, seed,
-    /// or section.key (repeatable).
+    /// Override a scenario value: speed, model, elements, modes, dt, t_end, nsub, alpha, scheme,
+    /// law, seed, or section.key (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
     /// Output directory.

@@ -1,11 +1,13 @@
 //! `maglev stability`: the linearised analysis of the levitation law (issue 5) for one set of
 //! controller parameters — continuous g-loop poles (Eq. 9 + 10), the spectral radius and
-//! critical step of Eq. 14 as discretised, and the poles of one magnet carrying its body.
+//! critical step of Eq. 14 as discretised (or of the accurate scheme, `--scheme accurate`), and
+//! the poles of one magnet carrying its body.
 //! The numbers come from `crate::stability`; this file only parses and prints.
 
 use super::control::ControllerArgs;
 use crate::stability::discrete::{self, Step};
 use crate::stability::gap_loop::GapLoopPlant;
+use crate::stability::gauss;
 use crate::stability::gloop::Loop;
 use crate::stability::plant::{rigid_growth_rate, Plant, Suspension};
 use crate::stability::Complex;
@@ -56,6 +58,10 @@ pub struct Args {
 /// The report printed as JSON (SI units: seconds, 1/s).
 #[derive(Debug, Serialize)]
 pub struct Report {
+    /// `paper` or `accurate`: which discretisation the discrete figures describe.
+    pub scheme: &'static str,
+    /// Gauss intervals per outer step (accurate scheme only).
+    pub intervals: Option<u32>,
     pub alpha: f64,
     pub dt_s: f64,
     pub n_sub: u32,
@@ -67,7 +73,7 @@ pub struct Report {
     pub ki_per_s: f64,
     /// Roots of τ s² + (1 + kpv) s + ki = 0 (1/s).
     pub continuous_poles: Vec<Complex>,
-    /// Eigenvalues of one sub-step's amplification matrix.
+    /// Eigenvalues of one sub-step's (paper) or one interval's (accurate) amplification matrix.
     pub substep_eigenvalues: Vec<Complex>,
     /// Spectral radius of one outer step (n_sub sub-steps).
     pub discrete_spectral_radius: f64,
@@ -97,6 +103,19 @@ pub fn report(args: &Args) -> Result<Report, String> {
     let p = args.controller.params(args.dt)?;
     let lp = Loop::new(&p, 0.0);
     let step = Step::new(&p, 0.0);
+    let accurate = p.scheme == maglev_core::Scheme::Accurate;
+    let (substep_eigenvalues, radius, critical) = if accurate {
+        let (r, _) = gauss::interval_matrix(&p, 0.0);
+        let mut ev: Vec<Complex> = r.complex_eigenvalues().iter().map(|&z| z.into()).collect();
+        crate::stability::sort_poles(&mut ev);
+        (ev, gauss::spectral_radius(&p, 0.0), None)
+    } else {
+        (
+            step.eigenvalues().to_vec(),
+            discrete::spectral_radius(&p, 0.0),
+            discrete::critical_dt(&p, 0.0),
+        )
+    };
     let susp = Suspension {
         magnet_mass: args.magnet_mass,
         k: args.k_susp,
@@ -104,6 +123,8 @@ pub fn report(args: &Args) -> Result<Report, String> {
     };
     let plant = Plant::new(&p, &susp)?;
     Ok(Report {
+        scheme: if accurate { "accurate" } else { "paper" },
+        intervals: accurate.then(|| maglev_core::levitation::accurate::intervals(&p)),
         alpha: p.alpha,
         dt_s: p.dt,
         n_sub: p.n_sub,
@@ -111,9 +132,9 @@ pub fn report(args: &Args) -> Result<Report, String> {
         kpv: lp.p - 1.0,
         ki_per_s: lp.ki,
         continuous_poles: lp.poles().to_vec(),
-        substep_eigenvalues: step.eigenvalues().to_vec(),
-        discrete_spectral_radius: discrete::spectral_radius(&p, 0.0),
-        critical_dt_s: discrete::critical_dt(&p, 0.0),
+        substep_eigenvalues,
+        discrete_spectral_radius: radius,
+        critical_dt_s: critical,
         plant_poles: plant.poles(),
         plant_states: plant.states.to_vec(),
         plant_body_mass_kg: plant.body_mass,
@@ -144,9 +165,14 @@ pub fn table(r: &Report) -> String {
         .map_or("none (unconditionally stable)".to_string(), |d| {
             format!("{d:.6} s")
         });
+    let scheme = match r.intervals {
+        Some(m) => format!("accurate (Gauss–Legendre, {m} interval(s) per step)"),
+        None => "paper (Eq. 14)".to_string(),
+    };
     format!(
-        "alpha                      {}\n\
-         dt, n_sub                  {} s, {}\n\
+        "scheme                     {}\n\
+         alpha                      {}\n\
+         dt, n_sub or intervals     {} s, {}\n\
          tau, kpv, ki               {:.6} s, {:.6}, {:.6} 1/s\n\
          continuous poles (1/s)     {}\n\
          sub-step eigenvalues       {}\n\
@@ -157,9 +183,10 @@ pub fn table(r: &Report) -> String {
          body / magnet mass (kg)    {:.3} / {:.3}\n\
          rigid gap growth (1/s)     {:.6}\n\
          gap-loop poles (1/s)       {}\n",
+        scheme,
         r.alpha,
         r.dt_s,
-        r.n_sub,
+        r.intervals.unwrap_or(r.n_sub),
         r.tau_s,
         r.kpv,
         r.ki_per_s,

@@ -6,6 +6,7 @@
 //! Δt = 1 ms); the modal reference runs at Δt = 1e-5 s with n_sub = 1 (a 10 µs sub-step, far
 //! below the controller's 0.16 s period) and 160 modes.
 
+use crate::cli::control::SchemeKind;
 use crate::cli::run::execute;
 use crate::output::{svg_plot, Series};
 use crate::scenario::{self, Scenario};
@@ -19,6 +20,9 @@ pub struct Args {
     /// Output directory for report.md, validation.json and the figures.
     #[arg(long, default_value = "validation")]
     pub out: PathBuf,
+    /// Controller scheme of every run, FE and modal reference alike (`controller.scheme`).
+    #[arg(long, value_enum, default_value_t = SchemeKind::Paper)]
+    pub scheme: SchemeKind,
 }
 
 /// One FE run compared with its modal reference.
@@ -45,8 +49,10 @@ struct Run {
     wall: f64,
 }
 
-fn run(sets: &[String]) -> Result<Run, String> {
-    let sc: Scenario = scenario::load("paper-4.2", sets)?;
+fn run(sets: &[String], scheme: SchemeKind) -> Result<Run, String> {
+    let mut sets = sets.to_vec();
+    sets.push(format!("scheme={}", scheme_name(scheme)));
+    let sc: Scenario = scenario::load("paper-4.2", &sets)?;
     let (o, wall) = execute(&sc, |_| {})?;
     if o.unconverged_steps > 0 {
         return Err(format!(
@@ -60,25 +66,38 @@ fn run(sets: &[String]) -> Result<Run, String> {
     })
 }
 
-fn fe(speed: f64, elements: usize, dt: f64) -> Result<(Run, u32), String> {
+fn scheme_name(s: SchemeKind) -> &'static str {
+    match s {
+        SchemeKind::Paper => "paper",
+        SchemeKind::Accurate => "accurate",
+    }
+}
+
+fn fe(speed: f64, elements: usize, dt: f64, scheme: SchemeKind) -> Result<(Run, u32), String> {
     let nsub = ((dt / 1e-6).round() as u32).max(1);
-    let r = run(&[
-        format!("speed={speed}"),
-        "model=fe".into(),
-        format!("elements={elements}"),
-        format!("dt={dt}"),
-        format!("nsub={nsub}"),
-    ])?;
+    let r = run(
+        &[
+            format!("speed={speed}"),
+            "model=fe".into(),
+            format!("elements={elements}"),
+            format!("dt={dt}"),
+            format!("nsub={nsub}"),
+        ],
+        scheme,
+    )?;
     Ok((r, nsub))
 }
 
-fn modal(speed: f64) -> Result<Run, String> {
-    run(&[
-        format!("speed={speed}"),
-        "model=modal".into(),
-        "dt=1e-5".into(),
-        "nsub=1".into(),
-    ])
+fn modal(speed: f64, scheme: SchemeKind) -> Result<Run, String> {
+    run(
+        &[
+            format!("speed={speed}"),
+            "model=modal".into(),
+            "dt=1e-5".into(),
+            "nsub=1".into(),
+        ],
+        scheme,
+    )
 }
 
 /// Reference value at time t by linear interpolation in the (finer) reference history.
@@ -115,8 +134,9 @@ fn compare(
     reference: &Run,
     lim_mid: Option<f64>,
     lim_w1: Option<f64>,
+    scheme: SchemeKind,
 ) -> Result<(Comparison, Run), String> {
-    let (r, nsub) = fe(speed, elements, dt)?;
+    let (r, nsub) = fe(speed, elements, dt, scheme)?;
     let (mp, md) = max_rel_diff(&r.records, &reference.records, midspan_z);
     let (wp, wd) = max_rel_diff(&r.records, &reference.records, wheel1_z);
     let its: Vec<u32> = r.records.iter().skip(1).map(|x| x.iterations).collect();
@@ -201,13 +221,22 @@ pub fn run_cmd(args: Args) -> Result<(), String> {
     let mut refs = std::collections::BTreeMap::new();
     for speed in [10.0, 100.0, 150.0] {
         eprintln!("maglev: validate: modal reference at {speed} m/s …");
-        refs.insert(speed as u32, modal(speed)?);
+        refs.insert(speed as u32, modal(speed, args.scheme)?);
     }
     // §4.3: three speeds, 20 elements, Δt = 1 ms.
     for speed in [10.0, 100.0, 150.0] {
         let reference = &refs[&(speed as u32)];
         eprintln!("maglev: validate: §4.3 FE at {speed} m/s …");
-        let (c, r) = compare("4.3", speed, 20, 1e-3, reference, Some(0.01), Some(0.02))?;
+        let (c, r) = compare(
+            "4.3",
+            speed,
+            20,
+            1e-3,
+            reference,
+            Some(0.01),
+            Some(0.02),
+            args.scheme,
+        )?;
         comps.push(c);
         figs.push(figure(
             &format!("fig2-{speed}"),
@@ -228,7 +257,7 @@ pub fn run_cmd(args: Args) -> Result<(), String> {
         } else {
             (None, None)
         };
-        let (c, r) = compare("4.4", 100.0, el, 1e-3, reference, lim.0, lim.1)?;
+        let (c, r) = compare("4.4", 100.0, el, 1e-3, reference, lim.0, lim.1, args.scheme)?;
         comps.push(c);
         el_runs.push((format!("FE, {el} elements"), r));
     }
@@ -250,7 +279,7 @@ pub fn run_cmd(args: Args) -> Result<(), String> {
         } else {
             (None, None)
         };
-        let (c, r) = compare("4.5", 100.0, 20, dt, reference, lim.0, lim.1)?;
+        let (c, r) = compare("4.5", 100.0, 20, dt, reference, lim.0, lim.1, args.scheme)?;
         comps.push(c);
         dt_runs.push((format!("FE, Δt = {dt} s"), r));
     }
@@ -275,7 +304,7 @@ pub fn run_cmd(args: Args) -> Result<(), String> {
     let mut study = Vec::new();
     for dt in [1e-5, 1e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2] {
         eprintln!("maglev: validate: Fig. 5 iterations at Δt = {dt} s …");
-        let (r, _) = fe(100.0, 20, dt)?;
+        let (r, _) = fe(100.0, 20, dt, args.scheme)?;
         let its: Vec<u32> = r.records.iter().skip(1).map(|x| x.iterations).collect();
         study.push((
             dt,
@@ -291,7 +320,7 @@ pub fn run_cmd(args: Args) -> Result<(), String> {
         md,
         "# Validation: FE against the modal Timoshenko reference\n"
     );
-    let _ = writeln!(md, "Generated by `maglev validate` ({:.0} s wall). The paper-4.2 scenario (model.md §9): 25 m Timoshenko beam, Fig. 1 vehicle, Table 1 irregularities (seed 1). Differences are the largest over the whole history, relative to the reference's peak. Reference: modal, 160 modes, Δt = 1e-5 s.\n", start.elapsed().as_secs_f64());
+    let _ = writeln!(md, "Generated by `maglev validate` ({:.0} s wall). The paper-4.2 scenario (model.md §9): 25 m Timoshenko beam, Fig. 1 vehicle, Table 1 irregularities (seed 1). Differences are the largest over the whole history, relative to the reference's peak. Reference: modal, 160 modes, Δt = 1e-5 s. Controller scheme (all runs): {} (n_sub applies to the paper scheme only).\n", start.elapsed().as_secs_f64(), scheme_name(args.scheme));
     let _ = writeln!(md, "Overall: **{}**\n", if pass { "PASS" } else { "FAIL" });
     let _ = writeln!(md, "| case | speed (m/s) | elements | Δt (s) | n_sub | midspan Z peak (mm) | max diff | wheel 1 Z peak (mm) | max diff | mean NR it. | criterion | result |");
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|");

@@ -10,6 +10,7 @@
 //! * [`gloop`]: the g-loop at fixed gap, continuous (Eq. 9 + 10): `τ s² + (1 + kpv) s + ki = 0`.
 //! * [`discrete`]: Eq. 14 over one sub-step as an exact 2×2 map of `(x, y)` at fixed gap; its
 //!   spectral radius and the critical time step.
+//! * [`gauss`]: the accurate scheme at fixed gap — the (2, 2) Padé map, stable for every step.
 //! * [`plant`]: one magnet carrying a body through the Fig. 1 spring–damper under a rigid
 //!   rail: the closed-loop poles including the gap mode.
 //!
@@ -18,9 +19,11 @@
 
 pub mod discrete;
 pub mod gap_loop;
+pub mod gauss;
 pub mod gloop;
 pub mod numerics;
 pub mod plant;
+pub mod schemes;
 
 /// A complex number for reports (`re`, `im`), sorted by descending real part then imaginary.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]

@@ -151,5 +151,10 @@ pub fn study(ref_n_sub: u32) -> Result<String, String> {
             c_error(&p, 2f64.powi(-28)),
         );
     }
+    let _ = writeln!(
+        out,
+        "\n### Paper scheme vs accurate scheme: error against cost (f64, linear interpolation)"
+    );
+    out.push_str(&super::schemes::table()?);
     Ok(out)
 }
