@@ -6,7 +6,12 @@
 use std::{env, fs, path::PathBuf};
 
 /// Images linked with cortex-m-rt, and whether each also logs through defmt.
-const IMAGES: &[(&str, bool)] = &[("qemu-m4", false), ("qemu-m0", false)];
+const IMAGES: &[(&str, bool)] = &[
+    ("qemu-m4", false),
+    ("qemu-m0", false),
+    ("qemu-m4-link", false),
+    ("qemu-m4-defmt", true),
+];
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");

@@ -9,7 +9,7 @@
 
 use core::fmt::Write;
 use maglev_core::scalar::I4F28;
-use maglev_firmware_sim::board::selftest::{report, run, Config, Measure};
+use maglev_firmware_sim::board::selftest::{op_costs, report, run, Config, Measure};
 
 /// Instruction budget per fixed-point update without the internal loop (issue 4, item 5).
 const BUDGET_FIXED: u32 = 250;
@@ -22,6 +22,7 @@ fn selftest<W: Write, M: Measure>(w: &mut W, m: &M) -> core::fmt::Result {
     for (i, cfg) in Config::ALL.into_iter().enumerate() {
         report::<I4F28, _>(w, cfg, counts[i], BUDGET_FIXED)?;
     }
+    op_costs::<I4F28, _, _>(w, m)?;
     Ok(())
 }
 

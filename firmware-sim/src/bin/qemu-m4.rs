@@ -9,7 +9,7 @@
 
 use core::fmt::Write;
 use maglev_core::scalar::I4F28;
-use maglev_firmware_sim::board::selftest::{report, run, Config, Measure};
+use maglev_firmware_sim::board::selftest::{op_costs, report, run, Config, Measure};
 
 /// Instruction budgets per update without the internal loop (issue 4, item 5).
 const BUDGET_F32: u32 = 60;
@@ -25,6 +25,8 @@ fn selftest<W: Write, M: Measure>(w: &mut W, m: &M) -> core::fmt::Result {
         report::<f32, _>(w, cfg, counts[i], BUDGET_F32)?;
         report::<I4F28, _>(w, cfg, counts[2 + i], BUDGET_FIXED)?;
     }
+    op_costs::<f32, _, _>(w, m)?;
+    op_costs::<I4F28, _, _>(w, m)?;
     Ok(())
 }
 

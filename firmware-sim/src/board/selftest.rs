@@ -148,7 +148,7 @@ pub fn run<S: Bits, W: Write, M: Measure>(
             st.v.bits(),
             out.force.bits(),
             out.current.bits(),
-            out.status.0 | if ov { 0x80 } else { 0 },
+            out.status.0 | if ov { 0x80 } else { 0 }, // 0x80: the gap saturated on conversion
         )?;
         if let Some(n) = n {
             let c = counts.get_or_insert(Counts {
@@ -188,4 +188,52 @@ pub fn report<S: Scalar, W: Write>(
         ),
         None => writeln!(w, "insns {name}/{tag} update: not measured"),
     }
+}
+
+/// A scalar operation with the core's signature, called through a pointer so each
+/// measurement window has the same shape.
+type Op<S> = fn(S, S, &mut bool) -> S;
+
+#[inline(never)]
+fn op_first<S: Scalar>(a: S, _b: S, _ov: &mut bool) -> S {
+    a
+}
+#[inline(never)]
+fn op_add<S: Scalar>(a: S, b: S, ov: &mut bool) -> S {
+    a.sadd(b, ov)
+}
+#[inline(never)]
+fn op_mul<S: Scalar>(a: S, b: S, ov: &mut bool) -> S {
+    a.smul(b, ov)
+}
+#[inline(never)]
+fn op_div<S: Scalar>(a: S, b: S, ov: &mut bool) -> S {
+    a.sdiv(b, ov)
+}
+
+/// Prints what one saturating operation costs: instructions of a call of `sadd`, `smul` and
+/// `sdiv` (operands 0.7 and 1.3, no overflow) minus those of a call of a function with the
+/// same signature that returns its first argument. This is what bounds an update (docs/hil.md).
+pub fn op_costs<S: Bits, W: Write, M: Measure>(w: &mut W, m: &M) -> fmt::Result {
+    let mut ov = false;
+    let a = S::from_f64(0.7, &mut ov);
+    let b = S::from_f64(1.3, &mut ov);
+    let mut time = |op: Op<S>| {
+        let mut r = S::ZERO;
+        m.count(&mut || r = op(a, b, &mut ov))
+    };
+    let base = time(op_first::<S>);
+    let ops: [(&str, Op<S>); 3] = [
+        ("sadd", op_add::<S>),
+        ("smul", op_mul::<S>),
+        ("sdiv", op_div::<S>),
+    ];
+    write!(w, "insns {} ops beyond a trivial call:", S::NAME)?;
+    for (name, op) in ops {
+        match (time(op), base) {
+            (Some(n), Some(b)) => write!(w, " {name} {}", n as i64 - b as i64)?,
+            _ => write!(w, " {name} n/a")?,
+        }
+    }
+    writeln!(w)
 }
