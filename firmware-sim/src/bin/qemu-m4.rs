@@ -9,6 +9,7 @@
 
 use core::fmt::Write;
 use maglev_core::scalar::I4F28;
+use maglev_firmware_sim::board::lower_bound;
 use maglev_firmware_sim::board::selftest::{op_costs, report, run, Config, Measure};
 
 /// Instruction budgets per update without the internal loop (issue 4, item 5).
@@ -27,6 +28,9 @@ fn selftest<W: Write, M: Measure>(w: &mut W, m: &M) -> core::fmt::Result {
     }
     op_costs::<f32, _, _>(w, m)?;
     op_costs::<I4F28, _, _>(w, m)?;
+    if !lower_bound::compare(w, m)? {
+        return Err(core::fmt::Error); // fails the image: the experiment no longer matches
+    }
     Ok(())
 }
 
