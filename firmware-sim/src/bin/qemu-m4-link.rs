@@ -3,8 +3,8 @@
 //! is dropped in, echoes every byte back. A 0x04 (EOT) byte ends the session: the image
 //! reports the bytes served over semihosting and exits. CI pipes a line through it.
 //!
-//! Run it with UART0 on a plain (non-multiplexed) channel, never `-nographic` (its mux eats
-//! 0x01 bytes); see docs/hil.md, "UART link":
+//! Run it with UART0 on a plain (non-multiplexed) channel, never `-nographic` alone (its
+//! default `mon:stdio` mux eats 0x01 bytes); see docs/hil.md, "UART link":
 //! `qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -display none -monitor none
 //!  -serial stdio -semihosting-config enable=on,target=native -kernel <elf>`.
 #![cfg_attr(target_os = "none", no_std, no_main)]
