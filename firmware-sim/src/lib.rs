@@ -22,3 +22,5 @@ pub mod hbridge;
 pub mod protocol;
 pub mod server;
 pub mod supervision;
+
+pub mod board;
