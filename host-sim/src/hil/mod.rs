@@ -3,7 +3,8 @@
 //!
 //! * [`link`]: how the host talks to the firmware (in-process, a host process, QEMU).
 //! * [`board`]: the physical side of its peripherals (gap → ADC codes, current → force).
-//! * [`coupling`]: the Newton–Raphson loop with `Step`/`Commit`.
+//! * [`coupling`]: the firmware as the magnets of the shared coupling loop
+//!   ([`crate::simulation::couple`]): `Step` per Newton iteration, `Commit` per step.
 //! * [`compare`]: the difference to the ideal in-process core run.
 //!
 //! See `docs/hil.md` for the timing model, the protocol and the fault reactions.
