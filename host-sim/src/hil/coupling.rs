@@ -13,10 +13,12 @@ use super::board::{force, Sensors};
 use super::link::Link;
 use super::HilSettings;
 use crate::guideway::Guideway;
-use crate::simulation::{couple, initial_gaps, Magnets, Profiles, Record, Settings, WheelGaps};
+use crate::simulation::{
+    couple, initial_gaps, Law, Magnets, Profiles, Record, Settings, WheelGaps,
+};
 use crate::vehicle::VehicleModel;
 use maglev_core::Status;
-use maglev_firmware_sim::protocol::{ChannelInit, Config, Reply, Request, Response};
+use maglev_firmware_sim::protocol::{ChannelInit, Config, LawConfig, Reply, Request, Response};
 use maglev_firmware_sim::supervision::Event;
 
 /// A logged firmware event.
@@ -93,6 +95,16 @@ impl<'a> FirmwareMagnets<'a> {
             ki: p.ki,
             alpha: p.alpha,
             v_max: p.v_max,
+            // The gap loop runs in the firmware at the tick rate (docs/gap-loop.md).
+            law: match s.law {
+                Law::Paper => LawConfig::Paper,
+                Law::GapLoop(g) => LawConfig::GapLoop {
+                    kp: g.kp,
+                    kd: g.kd,
+                    tf: g.tf,
+                    x_ref_max: g.x_ref_max,
+                },
+            },
             channels,
             adc_bits: hs.adc.bits,
             adc_lsb_m: hs.adc.lsb_m,

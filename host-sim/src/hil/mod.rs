@@ -154,15 +154,7 @@ pub fn execute_hil(
         tolerance: sc.run.tolerance_m,
         max_iterations: sc.run.max_iterations,
         midspan_x: bridge.spans[0] / 2.0,
-        law: match sc.law()? {
-            crate::simulation::Law::Paper => crate::simulation::Law::Paper,
-            _ => {
-                return Err(
-                    "hil: the firmware runs the paper's law only (controller.law = \"paper\")"
-                        .into(),
-                )
-            }
-        },
+        law: sc.law()?,
     };
     let start = Instant::now();
     let out = match sc.model()? {
