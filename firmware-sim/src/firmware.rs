@@ -1,5 +1,6 @@
 //! The firmware's control loop: sample every gap sensor over SPI, supervise, run the core's
-//! levitation law (one Eq. 14 update per tick), drive each coil's H-bridge PWM.
+//! levitation law (one Eq. 14 update per tick, under the paper's law or the gap loop), drive
+//! each coil's H-bridge PWM.
 //!
 //! Generic over the embedded-hal 1.0 traits (`SpiDevice` for the ADC, `SetDutyCycle` per
 //! coil) and over the core's [`Scalar`] (I4F28 for bit-identical fixed point, `f32` for the
@@ -10,7 +11,18 @@
 //! One [`Firmware::tick`] is one control period `1/rate` (default 10 kHz, 100 µs): per
 //! channel one 3-byte SPI transaction, one law update with `n_sub = 1` and `dt = 1/rate`,
 //! one duty write. With `delay`, the law at tick k uses the sample of tick k−1 (a one-sample
-//! computation delay: sample, compute, apply at the next period). The budget on a real part
+//! computation delay: sample, compute, apply at the next period).
+//!
+//! # Gap loop
+//! With [`LawConfig::GapLoop`] every channel (levitation and each guidance magnet, as
+//! `maglev_core::gap_control::GapLoop::update_pair` treats a pair) runs the core's outer gap
+//! loop once per tick, compiled for `Δt = 1/rate`: the reference from the channel's previous
+//! sample (held over the tick, one tick of delay), the filter advanced by backward Euler over
+//! one tick, then the inner update with the new sample. The outer loop thus runs at the
+//! control rate, not once per host step: the sampling delay the continuous design neglects is
+//! one tick (100 µs), not one host step (docs/gap-loop.md, "Firmware").
+//!
+//! The budget on a real part
 //! is the period: 12 channels × (SPI + update) must finish in 100 µs; the instruction counts
 //! per tick are measured on the QEMU image (see docs/hil.md).
 //!
@@ -24,17 +36,19 @@
 
 use crate::adc::read_channel;
 use crate::hbridge::duty_for;
-use crate::protocol::{ChannelOut, Config, MAX_CHANNELS};
+use crate::protocol::{ChannelOut, Config, LawConfig, MAX_CHANNELS};
 use crate::supervision::{check, Event, Limits, Mode, SensorState};
 use embedded_hal::pwm::SetDutyCycle;
 use embedded_hal::spi::SpiDevice;
 use heapless::Vec;
-use maglev_core::{Interpolation, Levitation, ParamError, Params, Scalar, State, Status};
+use maglev_core::gap_control::{GapLoop, GapParams, GapState};
+use maglev_core::{Interpolation, Levitation, ParamError, Params, Scalar, Status};
 
 /// One channel's state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ChannelState<S> {
-    pub law: State<S>,
+    /// The law's state (the gap loop's filter `q` unused under the paper's law).
+    pub law: GapState<S>,
     pub sensor: SensorState,
     /// The previous tick's sample (for the one-sample delay).
     pub delayed: u16,
@@ -66,6 +80,8 @@ pub struct Firmware<S, SPI, PWM> {
     pwm: Vec<PWM, MAX_CHANNELS>,
     laws: Vec<Levitation<S>, MAX_CHANNELS>,
     coils: Vec<Levitation<S>, MAX_CHANNELS>,
+    /// The outer gap loop (one for every channel), when configured.
+    outer: Option<GapLoop<S>>,
     /// `h/h0` of code 0, and of the full 2^bits span.
     gap_offset: S,
     gap_span: S,
@@ -100,6 +116,24 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         let mut coils = Vec::new();
         let mut st = FwState::<S>::default();
         let full_scale = ((1u32 << cfg.adc_bits) - 1) as u16;
+        let outer = match cfg.law {
+            LawConfig::Paper => None,
+            LawConfig::GapLoop {
+                kp,
+                kd,
+                tf,
+                x_ref_max,
+            } => Some(
+                GapParams {
+                    kp,
+                    kd,
+                    tf,
+                    x_ref_max,
+                }
+                .compile::<S>(1.0 / cfg.rate_hz as f64)
+                .map_err(ConfigError::Law)?,
+            ),
+        };
         for (k, ch) in cfg.channels.iter().enumerate() {
             let p = Params {
                 i0: cfg.i0,
@@ -127,8 +161,12 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
             .map_err(ConfigError::Law)?;
             let code = libm::round((ch.gap - cfg.adc_offset_m) / cfg.adc_lsb_m)
                 .clamp(1.0, full_scale as f64 - 1.0) as u16;
+            let inner = law.equilibrium_state(ch.gap);
             st.ch[k] = ChannelState {
-                law: law.equilibrium_state(ch.gap),
+                law: GapState {
+                    inner,
+                    q: inner.eta,
+                },
                 sensor: SensorState {
                     last_good: code,
                     last_raw: code,
@@ -155,6 +193,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
             pwm,
             laws,
             coils,
+            outer,
             gap_offset,
             gap_span,
             code_scale: 1.0 / (1u32 << cfg.adc_bits) as f64,
@@ -170,7 +209,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
             st,
         };
         for k in 0..n {
-            let v = fw.st.ch[k].law.v;
+            let v = fw.st.ch[k].law.inner.v;
             let _ = fw.apply(k, v);
         }
         Ok(fw)
@@ -239,7 +278,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
             self.st.mode = Mode::Ramp;
             self.st.ramp_left = self.limits.ramp_ticks;
             for ch in self.st.ch.iter_mut().take(n) {
-                ch.ramp_from = ch.law.v;
+                ch.ramp_from = ch.law.inner.v;
             }
             events.raise(Event::FAULT);
         }
@@ -254,13 +293,19 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         for (k, &code) in codes.iter().enumerate().take(n) {
             let h = self.gap_pu(code);
             let ch = &mut self.st.ch[k];
-            let out = if self.st.mode == Mode::Normal {
-                self.laws[k].update(&mut ch.law, h)
-            } else {
+            let out = if self.st.mode != Mode::Normal {
                 // Coil alone at the ramped voltage: with KP = KI = 0 the law's voltage is 1 + y.
                 let target = ch.ramp_from.smul(ramp_factor, &mut ov);
-                ch.law.y = target.ssub(S::ONE, &mut ov);
-                self.coils[k].update(&mut ch.law, h)
+                ch.law.inner.y = target.ssub(S::ONE, &mut ov);
+                self.coils[k].update(&mut ch.law.inner, h)
+            } else if let Some(outer) = &self.outer {
+                let o = outer.update(&self.laws[k], &mut ch.law, h);
+                if o.reference_limited {
+                    events.raise(Event::REFERENCE_LIMITED);
+                }
+                o.inner
+            } else {
+                self.laws[k].update(&mut ch.law.inner, h)
             };
             events.raise(map_status(out.status));
             if self.apply(k, out.voltage) {
@@ -283,7 +328,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
     /// Channel `k`'s `g/g0`, coil current `i/i0` (both Q4.28) and duty.
     pub fn output(&self, k: usize) -> ChannelOut {
         let ch = &self.st.ch[k];
-        let out = self.laws[k].output(&ch.law);
+        let out = self.laws[k].output(&ch.law.inner);
         ChannelOut {
             g_q28: q28(out.g),
             current_q28: q28(out.current),

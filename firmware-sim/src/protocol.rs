@@ -20,7 +20,8 @@ use heapless::Vec;
 use serde::{Deserialize, Serialize};
 
 /// Protocol version carried in every envelope; a mismatch is answered with [`Nack::Version`].
-pub const VERSION: u8 = 1;
+/// 2: [`Config::law`] added (postcard is not self-describing, so the layout changed).
+pub const VERSION: u8 = 2;
 /// Most magnet channels one firmware serves (4 wheels × 3 magnets = 12 for the Fig. 1 car).
 pub const MAX_CHANNELS: usize = 16;
 /// Most ADC codes in one step request (channels × ticks per step).
@@ -68,6 +69,8 @@ pub struct Config {
     pub ki: f64,
     pub alpha: f64,
     pub v_max: f64,
+    /// The levitation law of every channel.
+    pub law: LawConfig,
     /// Per channel: static load p0 (N) and initial gap (m); the controller starts in
     /// equilibrium at that gap.
     pub channels: Vec<ChannelInit, MAX_CHANNELS>,
@@ -84,6 +87,22 @@ pub struct Config {
     pub stuck_ticks: u16,
     /// Length of the coil-voltage ramp to zero after a fault.
     pub ramp_ticks: u16,
+}
+
+/// Which levitation law the firmware runs on every channel.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum LawConfig {
+    /// The paper's PI law on `g = i/h` (Eq. 8–14).
+    Paper,
+    /// `maglev_core::gap_control`'s outer gap loop setting the paper's law's reference, run
+    /// once per control tick on the channel's sampled gap. Gains per unit, as
+    /// `maglev_core::gap_control::GapParams`: `kp`, `kd` (s), `tf` (s), `x_ref_max`.
+    GapLoop {
+        kp: f64,
+        kd: f64,
+        tf: f64,
+        x_ref_max: f64,
+    },
 }
 
 /// One magnet channel's static load (N) and initial gap (m).

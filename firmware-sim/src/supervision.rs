@@ -37,9 +37,11 @@ impl Event {
     /// The commanded voltage exceeded the H-bridge's range and was clipped.
     pub const PWM_CLIPPED: Event = Event(256);
     pub const SPI_ERROR: Event = Event(512);
+    /// The gap loop's reference `x_ref` was limited to `±x_ref_max`.
+    pub const REFERENCE_LIMITED: Event = Event(1024);
 
     /// Names of the bits, for logs.
-    pub const NAMES: [(Event, &'static str); 10] = [
+    pub const NAMES: [(Event, &'static str); 11] = [
         (Event::CONTACT, "contact"),
         (Event::OUT_OF_RANGE, "out_of_range"),
         (Event::STUCK, "stuck"),
@@ -50,6 +52,7 @@ impl Event {
         (Event::OVERFLOW, "overflow"),
         (Event::PWM_CLIPPED, "pwm_clipped"),
         (Event::SPI_ERROR, "spi_error"),
+        (Event::REFERENCE_LIMITED, "reference_limited"),
     ];
 
     pub fn contains(self, e: Event) -> bool {

@@ -34,6 +34,7 @@ fn config(scalar: ScalarKind) -> Config {
         ki: 6.0,
         alpha: 0.5,
         v_max: f64::INFINITY,
+        law: LawConfig::Paper,
         channels,
         adc_bits: 16,
         adc_lsb_m: LSB,

@@ -3,7 +3,8 @@
 //!
 //! * [`link`]: how the host talks to the firmware (in-process, a host process, QEMU).
 //! * [`board`]: the physical side of its peripherals (gap → ADC codes, current → force).
-//! * [`coupling`]: the Newton–Raphson loop with `Step`/`Commit`.
+//! * [`coupling`]: the firmware as the magnets of the shared coupling loop
+//!   ([`crate::simulation::couple`]): `Step` per Newton iteration, `Commit` per step.
 //! * [`compare`]: the difference to the ideal in-process core run.
 //!
 //! See `docs/hil.md` for the timing model, the protocol and the fault reactions.
@@ -153,15 +154,7 @@ pub fn execute_hil(
         tolerance: sc.run.tolerance_m,
         max_iterations: sc.run.max_iterations,
         midspan_x: bridge.spans[0] / 2.0,
-        law: match sc.law()? {
-            crate::simulation::Law::Paper => crate::simulation::Law::Paper,
-            _ => {
-                return Err(
-                    "hil: the firmware runs the paper's law only (controller.law = \"paper\")"
-                        .into(),
-                )
-            }
-        },
+        law: sc.law()?,
     };
     let start = Instant::now();
     let out = match sc.model()? {
