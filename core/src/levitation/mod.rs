@@ -519,7 +519,9 @@ impl<S: Scalar> Levitation<S> {
     /// the coil + PI equations: Eq. 14 `n_sub` times, or the Gauss–Legendre intervals of
     /// [`accurate`]. Never panics; every anomaly is reported in [`Output::status`].
     pub fn update(&self, st: &mut State<S>, h_next: S) -> Output<S> {
-        self.update_with_reference(st, h_next, S::ZERO)
+        // Without a reference the reference terms are compiled out: the paper's law costs
+        // no more than before the gap loop existed (instruction counts in docs/hil.md).
+        self.advance::<false>(st, h_next, S::ZERO)
     }
 
     /// [`Levitation::update`] with the reference `g_ref = g0·(1 + x_ref)` in place of `g0`
@@ -528,6 +530,12 @@ impl<S: Scalar> Levitation<S> {
     /// `2·kih·x_ref` to the integral's increment and `kpv·x_ref` to the voltage (module docs);
     /// `x_ref = 0` is exactly [`Levitation::update`].
     pub fn update_with_reference(&self, st: &mut State<S>, h_next: S, x_ref: S) -> Output<S> {
+        self.advance::<true>(st, h_next, x_ref)
+    }
+
+    /// The outer step; `REF = false` ignores `x_ref` (treated as zero) at compile time.
+    #[inline]
+    fn advance<const REF: bool>(&self, st: &mut State<S>, h_next: S, x_ref: S) -> Output<S> {
         let mut ov = false;
         let mut status = Status::default();
         // NaN (floats only) is the one input that cannot be clamped meaningfully.
@@ -562,7 +570,9 @@ impl<S: Scalar> Levitation<S> {
             }
         };
         let (x, y, v) = match self.params.scheme {
-            Scheme::Paper => self.paper_steps(st, eta0, eta1, b1, b2, x_ref, &mut status, &mut ov),
+            Scheme::Paper => {
+                self.paper_steps::<REF>(st, eta0, eta1, b1, b2, x_ref, &mut status, &mut ov)
+            }
             Scheme::Accurate => {
                 let eta = accurate::Gap { eta0, b1, b2 };
                 self.gauss.step(
@@ -591,7 +601,7 @@ impl<S: Scalar> Levitation<S> {
     /// Eq. 14 `n_sub` times over the outer step, the gap interpolated (model.md §4), with
     /// the reference `g0·(1 + x_ref)`: returns the new `(x, y, v)`.
     #[allow(clippy::too_many_arguments)]
-    fn paper_steps(
+    fn paper_steps<const REF: bool>(
         &self,
         st: &State<S>,
         eta0: S,
@@ -613,7 +623,7 @@ impl<S: Scalar> Levitation<S> {
                 let quad = s.smul(b2, ov);
                 eta0.sadd(s.smul(b1.sadd(quad, ov), ov), ov)
             };
-            let (x1, y1, v1, sub) = self.substep(x, y, eta, x_ref, ov);
+            let (x1, y1, v1, sub) = self.substep::<REF>(x, y, eta, x_ref, ov);
             *status = status.union(sub);
             x = x1;
             y = y1;
@@ -625,15 +635,22 @@ impl<S: Scalar> Levitation<S> {
     /// One application of Eq. 14 over a sub-step ending at gap deviation `eta`, with the
     /// reference `g0·(1 + r)` (`r = 0`: the paper's law).
     #[inline]
-    fn substep(&self, x: S, y: S, eta: S, r: S, ov: &mut bool) -> (S, S, S, Status) {
+    fn substep<const REF: bool>(
+        &self,
+        x: S,
+        y: S,
+        eta: S,
+        r: S,
+        ov: &mut bool,
+    ) -> (S, S, S, Status) {
         let mut status = Status::default();
         let one = S::ONE;
         // N = y − η − x·(1 + kpd + η) + kpd·r
         let factor = one.sadd(self.kpd, ov).sadd(eta, ov);
-        let num = y
-            .ssub(eta, ov)
-            .ssub(x.smul(factor, ov), ov)
-            .sadd(self.kpd.smul(r, ov), ov);
+        let mut num = y.ssub(eta, ov).ssub(x.smul(factor, ov), ov);
+        if REF {
+            num = num.sadd(self.kpd.smul(r, ov), ov);
+        }
         // 1 + cα(1 + kph) + cα·η
         let den = one.sadd(self.ca1, ov).sadd(self.ca.smul(eta, ov), ov);
         let mut x1 = x.sadd(self.c.smul(num, ov).sdiv(den, ov), ov);
@@ -643,9 +660,17 @@ impl<S: Scalar> Levitation<S> {
             status = status.union(Status::CURRENT_CLAMPED);
         }
         // Trapezoidal integral (Eq. 12) and the voltage at the end of the sub-step (Eq. 11).
-        let two_r = r.sadd(r, ov);
-        let y1 = y.ssub(self.kih.smul(x.sadd(x1, ov).ssub(two_r, ov), ov), ov);
-        let v1 = one.sadd(y1, ov).ssub(self.kpv.smul(x1.ssub(r, ov), ov), ov);
+        let (y1, v1) = if REF {
+            let two_r = r.sadd(r, ov);
+            let y1 = y.ssub(self.kih.smul(x.sadd(x1, ov).ssub(two_r, ov), ov), ov);
+            (
+                y1,
+                one.sadd(y1, ov).ssub(self.kpv.smul(x1.ssub(r, ov), ov), ov),
+            )
+        } else {
+            let y1 = y.ssub(self.kih.smul(x.sadd(x1, ov), ov), ov);
+            (y1, one.sadd(y1, ov).ssub(self.kpv.smul(x1, ov), ov))
+        };
         let v_lim = self.v_max;
         if v1 > v_lim || v1 < v_lim.sneg(ov) {
             status = status.union(Status::VOLTAGE_SATURATED);
