@@ -11,6 +11,7 @@ const IMAGES: &[(&str, bool)] = &[
     ("qemu-m0", false),
     ("qemu-m4-link", false),
     ("qemu-m4-defmt", true),
+    ("qemu-m4-server", false),
 ];
 
 fn main() {
