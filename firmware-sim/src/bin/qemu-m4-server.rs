@@ -8,7 +8,7 @@ fn main() -> ! {
     use maglev_firmware_sim::protocol::MAX_FRAME;
     use maglev_firmware_sim::server::Server;
     // SAFETY: the only user of UART0 in this image.
-    let mut uart = unsafe { CmsdkUart::uart0() };
+    let mut uart = unsafe { CmsdkUart::uart0_wfi() };
     let mut server = Server::new();
     let mut frame = [0u8; MAX_FRAME];
     loop {
