@@ -12,6 +12,7 @@ const IMAGES: &[(&str, bool)] = &[
     ("qemu-m4-link", false),
     ("qemu-m4-defmt", true),
     ("qemu-m4-server", false),
+    ("qemu-m4-server-semi", false),
 ];
 
 fn main() {
