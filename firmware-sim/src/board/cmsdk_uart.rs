@@ -11,11 +11,11 @@
 //! * [`CmsdkUart::uart0`]: polled. The core spins on the STATE register.
 //! * [`CmsdkUart::uart0_wfi`]: the core sleeps in `wfi` until the UART's RX interrupt is
 //!   pending. Interrupts stay masked (PRIMASK), so no handler runs: the interrupt is only a
-//!   wake-up. This is the fast mode in QEMU (docs/hil.md, "Link speed"): the UART holds one
-//!   byte, QEMU's I/O thread hands over the next one only after the guest has read the last,
-//!   and every guest access to a device register takes QEMU's big lock. A spinning core keeps a
-//!   host CPU busy and contends for that lock with the I/O thread on every byte; a sleeping
-//!   core leaves both to the I/O thread and is woken by the byte itself.
+//!   wake-up. A spinning core keeps a host CPU busy in QEMU (and takes QEMU's big lock on every
+//!   status read); a sleeping one costs nothing between requests and is woken by the byte
+//!   itself. The link rate stays the same either way (measured, docs/hil.md "Link speed"): the
+//!   UART holds one byte and QEMU hands over the next only after a round trip between its I/O
+//!   thread and the vCPU thread, whoever reads DATA and however fast.
 use core::convert::Infallible;
 use core::ptr::{read_volatile, write_volatile};
 
