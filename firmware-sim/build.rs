@@ -11,6 +11,8 @@ const IMAGES: &[(&str, bool)] = &[
     ("qemu-m0", false),
     ("qemu-m4-link", false),
     ("qemu-m4-defmt", true),
+    ("qemu-m4-server", false),
+    ("qemu-m4-server-semi", false),
 ];
 
 fn main() {

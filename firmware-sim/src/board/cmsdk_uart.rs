@@ -1,10 +1,21 @@
 //! UART0 of mps2-an386 (an ARM CMSDK APB UART at `0x4000_4000`) as a blocking byte stream:
 //! the link the wire protocol runs over in QEMU (docs/hil.md, "UART link").
 //!
-//! Polled, no interrupts: `write` waits while the one-byte transmit holding register is full,
-//! `read` waits for a received byte. In QEMU the UART is connected to the host by `-serial …`
-//! (`-serial stdio`, or a socket chardev); its baud rate has no effect there, so the divider is
-//! only set to the hardware minimum of 16.
+//! `write` waits while the one-byte transmit holding register is full, `read` waits for a
+//! received byte. In QEMU the UART is connected to the host by `-serial …` (`-serial stdio`, or
+//! a socket chardev); its baud rate has no effect there, so the divider is only set to the
+//! hardware minimum of 16.
+//!
+//! Two ways to wait for a received byte:
+//!
+//! * [`CmsdkUart::uart0`]: polled. The core spins on the STATE register.
+//! * [`CmsdkUart::uart0_wfi`]: the core sleeps in `wfi` until the UART's RX interrupt is
+//!   pending. Interrupts stay masked (PRIMASK), so no handler runs: the interrupt is only a
+//!   wake-up. A spinning core keeps a host CPU busy in QEMU (and takes QEMU's big lock on every
+//!   status read); a sleeping one costs nothing between requests and is woken by the byte
+//!   itself. The link rate stays the same either way (measured, docs/hil.md "Link speed"): the
+//!   UART holds one byte and QEMU hands over the next only after a round trip between its I/O
+//!   thread and the vCPU thread, whoever reads DATA and however fast.
 use core::convert::Infallible;
 use core::ptr::{read_volatile, write_volatile};
 
@@ -19,10 +30,30 @@ const STATE_TX_FULL: u32 = 1 << 0;
 const STATE_RX_FULL: u32 = 1 << 1;
 const CTRL_TX_EN: u32 = 1 << 0;
 const CTRL_RX_EN: u32 = 1 << 1;
+const CTRL_RX_INTEN: u32 = 1 << 3;
+const INTSTATUS: usize = 0x0C;
+const INTSTATUS_RX: u32 = 1 << 1;
 
-/// A CMSDK APB UART, polled.
+/// UART0's receive interrupt on mps2-an385/an386 (QEMU `hw/arm/mps2.c`: RX = 0, TX = 1).
+pub const UART0_RX_IRQ: u16 = 0;
+
+/// An NVIC interrupt line by number (the images have no device crate).
+#[derive(Clone, Copy)]
+struct Irq(u16);
+
+// SAFETY: `number` returns a valid external interrupt number of the board (below 32 on
+// mps2-an386), always the same for a value.
+unsafe impl cortex_m::interrupt::InterruptNumber for Irq {
+    fn number(self) -> u16 {
+        self.0
+    }
+}
+
+/// A CMSDK APB UART.
 pub struct CmsdkUart {
     base: usize,
+    /// The RX interrupt that wakes `wfi` (None: polled).
+    wake: Option<Irq>,
 }
 
 impl CmsdkUart {
@@ -31,9 +62,35 @@ impl CmsdkUart {
     /// # Safety
     /// The caller owns UART0: no other code may touch its registers while this value lives.
     pub unsafe fn uart0() -> Self {
-        let u = CmsdkUart { base: UART0_BASE };
+        let u = CmsdkUart {
+            base: UART0_BASE,
+            wake: None,
+        };
         u.wr(BAUDDIV, 16);
         u.wr(CTRL, CTRL_TX_EN | CTRL_RX_EN);
+        u
+    }
+
+    /// UART0 of mps2-an386, receiving by sleeping in `wfi` until a byte is there.
+    ///
+    /// Masks interrupts (PRIMASK) for good and enables UART0's RX interrupt in the UART and the
+    /// NVIC: a pending interrupt wakes `wfi` even while masked, and no handler ever runs.
+    ///
+    /// # Safety
+    /// As [`CmsdkUart::uart0`]; besides, the image must not rely on interrupt handlers.
+    pub unsafe fn uart0_wfi() -> Self {
+        cortex_m::interrupt::disable();
+        let irq = Irq(UART0_RX_IRQ);
+        let u = CmsdkUart {
+            base: UART0_BASE,
+            wake: Some(irq),
+        };
+        u.wr(BAUDDIV, 16);
+        u.wr(INTSTATUS, INTSTATUS_RX);
+        cortex_m::peripheral::NVIC::unpend(irq);
+        u.wr(CTRL, CTRL_TX_EN | CTRL_RX_EN | CTRL_RX_INTEN);
+        // SAFETY: PRIMASK is set above and never cleared, so unmasking cannot start a handler.
+        unsafe { cortex_m::peripheral::NVIC::unmask(irq) };
         u
     }
 
@@ -53,15 +110,32 @@ impl CmsdkUart {
         self.wr(DATA, b as u32);
     }
 
-    /// Receives one byte, waiting for it.
+    /// Receives one byte, waiting for it (spinning, or asleep in `wfi`).
     pub fn read_byte(&mut self) -> u8 {
-        while self.rd(STATE) & STATE_RX_FULL == 0 {}
-        self.rd(DATA) as u8
+        loop {
+            if let Some(b) = self.try_read_byte() {
+                return b;
+            }
+            if self.wake.is_some() {
+                // A byte that arrived since the check above left the interrupt pending, and a
+                // pending interrupt ends `wfi` at once: no byte is slept through.
+                cortex_m::asm::wfi();
+            }
+        }
     }
 
     /// A received byte, if one is waiting.
     pub fn try_read_byte(&mut self) -> Option<u8> {
-        (self.rd(STATE) & STATE_RX_FULL != 0).then(|| self.rd(DATA) as u8)
+        if self.rd(STATE) & STATE_RX_FULL == 0 {
+            return None;
+        }
+        if let Some(irq) = self.wake {
+            // Acknowledge before reading DATA: reading frees the holding register, and the
+            // next byte (which QEMU may deliver at once) must raise the interrupt anew.
+            self.wr(INTSTATUS, INTSTATUS_RX);
+            cortex_m::peripheral::NVIC::unpend(irq);
+        }
+        Some(self.rd(DATA) as u8)
     }
 }
 

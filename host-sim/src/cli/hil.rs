@@ -25,6 +25,27 @@ pub enum FirmwareMode {
     Qemu,
 }
 
+/// How the QEMU image talks to the host; the host sees QEMU's stdin/stdout either way.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum QemuLink {
+    /// UART0 of mps2-an386 on `-serial stdio` (image `qemu-m4-server`): the board's own port,
+    /// as on hardware; QEMU moves it one byte per I/O-thread/vCPU hand-over (~150 exchanges/s).
+    Uart,
+    /// Semihosting reads and writes of the host's /dev/stdin and /dev/stdout (image
+    /// `qemu-m4-server-semi`): whole frames per trap, at the firmware's speed under QEMU.
+    Semihosting,
+}
+
+impl QemuLink {
+    /// The image built for this link (`firmware-sim/src/bin/`).
+    pub fn image_name(self) -> &'static str {
+        match self {
+            QemuLink::Uart => "qemu-m4-server",
+            QemuLink::Semihosting => "qemu-m4-server-semi",
+        }
+    }
+}
+
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// A scenario TOML file, or a bundled name (paper-4.2).
@@ -46,9 +67,14 @@ pub struct Args {
     /// `maglev-firmware` next to this program].
     #[arg(long)]
     pub firmware_bin: Option<PathBuf>,
-    /// The QEMU image for `--firmware qemu` [default: $MAGLEV_QEMU_IMAGE].
+    /// The QEMU image for `--firmware qemu` [default: $MAGLEV_QEMU_IMAGE, or the link's image
+    /// in TARGET/thumbv7em-none-eabihf/release/, TARGET being the target directory this
+    /// program was built in].
     #[arg(long)]
     pub qemu_image: Option<PathBuf>,
+    /// The link to the QEMU image: UART0 (as on the board) or semihosting (fast).
+    #[arg(long, value_enum, default_value = "uart")]
+    pub qemu_link: QemuLink,
     /// The QEMU program [default: $MAGLEV_QEMU, or qemu-system-arm].
     #[arg(long)]
     pub qemu: Option<PathBuf>,
@@ -66,6 +92,9 @@ pub struct HilSummary {
     #[serde(flatten)]
     pub run: Summary,
     pub firmware: String,
+    /// The QEMU link (`uart` or `semihosting`) of `--firmware qemu`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub qemu_link: Option<String>,
     pub scalar: String,
     pub rate_hz: u32,
     pub ticks_per_step: u32,
@@ -108,8 +137,31 @@ fn firmware_program(args: &Args) -> PathBuf {
     exe.with_file_name(format!("maglev-firmware{}", std::env::consts::EXE_SUFFIX))
 }
 
-/// The QEMU command line for an image (the serial port is the link on stdin/stdout).
-pub fn qemu_command(qemu: &Path, image: &Path) -> Command {
+/// The default QEMU image of a link: `TARGET/thumbv7em-none-eabihf/release/NAME`, where
+/// TARGET is the target directory of this program (`TARGET/release/maglev`), so a workspace
+/// build finds the image that `cargo build --target thumbv7em-none-eabihf` put beside it.
+pub fn default_qemu_image(link: QemuLink) -> Option<PathBuf> {
+    let exe = std::env::current_exe().ok()?;
+    let target = exe.parent()?.parent()?;
+    Some(
+        target
+            .join("thumbv7em-none-eabihf")
+            .join("release")
+            .join(link.image_name()),
+    )
+}
+
+/// The QEMU command line for an image; the link is on QEMU's stdin/stdout. No `-icount`: the
+/// guest runs as fast as QEMU can translate it (instruction counting is for the self-tests).
+///
+/// * `uart`: UART0 on a plain `-serial stdio` (explicit `-monitor none`, so `-nographic`'s
+///   `mon:stdio` mux, which eats 0x01 bytes, is not used).
+/// * `semihosting`: `-serial null`, so that only the image (through semihosting) reads stdin.
+pub fn qemu_command(qemu: &Path, image: &Path, link: QemuLink) -> Command {
+    let serial = match link {
+        QemuLink::Uart => "stdio",
+        QemuLink::Semihosting => "null",
+    };
     let mut c = Command::new(qemu);
     c.args([
         "-machine",
@@ -120,8 +172,9 @@ pub fn qemu_command(qemu: &Path, image: &Path) -> Command {
         "-monitor",
         "none",
         "-serial",
-        "stdio",
-        "-semihosting",
+        serial,
+        "-semihosting-config",
+        "enable=on,target=native",
         "-kernel",
     ])
     .arg(image);
@@ -151,22 +204,27 @@ pub fn open_link(args: &Args, faults: LinkFaults) -> Result<Box<dyn Link>, Strin
             StreamLink::spawn(Command::new(prog))?
         }
         FirmwareMode::Qemu => {
+            let name = args.qemu_link.image_name();
+            let build = format!(
+                "build it with `cargo build --release -p maglev-firmware-sim --target \
+                 thumbv7em-none-eabihf --bin {name}` (after `rustup target add \
+                 thumbv7em-none-eabihf`), or pass --qemu-image PATH / $MAGLEV_QEMU_IMAGE"
+            );
             let image = args
                 .qemu_image
                 .clone()
                 .or_else(|| std::env::var_os("MAGLEV_QEMU_IMAGE").map(PathBuf::from))
-                .ok_or(
-                    "--firmware qemu needs the image: --qemu-image PATH or $MAGLEV_QEMU_IMAGE",
-                )?;
+                .or_else(|| default_qemu_image(args.qemu_link))
+                .ok_or_else(|| format!("no QEMU image {name}: {build}"))?;
             if !image.exists() {
-                return Err(format!("QEMU image {} not found", image.display()));
+                return Err(format!("QEMU image {} not found: {build}", image.display()));
             }
             let qemu = args
                 .qemu
                 .clone()
                 .or_else(|| std::env::var_os("MAGLEV_QEMU").map(PathBuf::from))
                 .unwrap_or_else(|| "qemu-system-arm".into());
-            StreamLink::spawn(qemu_command(&qemu, &image))?
+            StreamLink::spawn(qemu_command(&qemu, &image, args.qemu_link))?
         }
     };
     link.timeout = Duration::from_millis(args.timeout_ms);
@@ -255,6 +313,8 @@ pub fn run(args: Args) -> Result<(), String> {
     );
     let summary = HilSummary {
         firmware: format!("{:?}", args.firmware).to_lowercase(),
+        qemu_link: (args.firmware == FirmwareMode::Qemu)
+            .then(|| format!("{:?}", args.qemu_link).to_lowercase()),
         scalar: format!("{:?}", hs.scalar).to_lowercase(),
         rate_hz: hs.rate_hz,
         ticks_per_step: (sc.run.dt_s * hs.rate_hz as f64).round() as u32,
