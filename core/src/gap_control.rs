@@ -261,22 +261,9 @@ impl<S: Scalar> GapLoop<S> {
         st: &mut GapPairState<S>,
         d_pu: S,
     ) -> PairOutput<S> {
-        let mut ov = false;
-        let h_left = S::ONE.sadd(d_pu, &mut ov);
-        let h_right = S::ONE.ssub(d_pu, &mut ov);
-        let left = self.update(inner, &mut st.left, h_left).inner;
-        let right = self.update(inner, &mut st.right, h_right).inner;
-        let force_y = right.force.ssub(left.force, &mut ov);
-        let mut status = left.status.union(right.status);
-        if ov {
-            status = status.union(Status::OVERFLOW);
-        }
-        PairOutput {
-            left,
-            right,
-            force_y,
-            status,
-        }
+        crate::guidance::update_with(&mut st.left, &mut st.right, d_pu, |s, h| {
+            self.update(inner, s, h).inner
+        })
     }
 }
 

@@ -51,11 +51,22 @@ pub fn initial_state<S: Scalar>(ctrl: &Levitation<S>, d: f64) -> PairState<S> {
 
 /// One outer step of both magnets. `d_pu` is `(y_w − y_g + r_y)/h0` at the end of the step.
 pub fn update<S: Scalar>(ctrl: &Levitation<S>, st: &mut PairState<S>, d_pu: S) -> PairOutput<S> {
+    update_with(&mut st.left, &mut st.right, d_pu, |s, h| ctrl.update(s, h))
+}
+
+/// The pair's geometry and net force around any per-magnet law: `magnet(state, h/h0)` runs
+/// one magnet for one step (the paper's law here, the gap loop in [`crate::gap_control`]).
+pub fn update_with<S: Scalar, T>(
+    left: &mut T,
+    right: &mut T,
+    d_pu: S,
+    mut magnet: impl FnMut(&mut T, S) -> Output<S>,
+) -> PairOutput<S> {
     let mut ov = false;
     let h_left = S::ONE.sadd(d_pu, &mut ov);
     let h_right = S::ONE.ssub(d_pu, &mut ov);
-    let left = ctrl.update(&mut st.left, h_left);
-    let right = ctrl.update(&mut st.right, h_right);
+    let left = magnet(left, h_left);
+    let right = magnet(right, h_right);
     let force_y = right.force.ssub(left.force, &mut ov);
     let mut status = left.status.union(right.status);
     if ov {
