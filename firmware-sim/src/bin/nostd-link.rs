@@ -24,7 +24,9 @@ pub extern "C" fn _start() -> ! {
     let v = exercise();
     // Keep the result observable so the call is not optimised away.
     unsafe { core::ptr::write_volatile(core::ptr::addr_of_mut!(SINK), v) };
-    loop {}
+    loop {
+        core::hint::spin_loop();
+    }
 }
 
 #[cfg(target_os = "none")]
@@ -33,7 +35,9 @@ static mut SINK: i64 = 0;
 #[cfg(target_os = "none")]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {}
+    loop {
+        core::hint::spin_loop();
+    }
 }
 
 #[cfg(not(target_os = "none"))]
