@@ -106,8 +106,7 @@ pub fn report(args: &Args) -> Result<Report, String> {
     let accurate = p.scheme == maglev_core::Scheme::Accurate;
     let (substep_eigenvalues, radius, critical) = if accurate {
         let (r, _) = gauss::interval_matrix(&p, 0.0);
-        let mut ev: Vec<Complex> = r.complex_eigenvalues().iter().map(|&z| z.into()).collect();
-        crate::stability::sort_poles(&mut ev);
+        let ev = crate::stability::sorted_poles(r.complex_eigenvalues().iter().copied());
         (ev, gauss::spectral_radius(&p, 0.0), None)
     } else {
         (

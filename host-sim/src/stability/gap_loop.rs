@@ -99,15 +99,7 @@ impl GapLoopPlant {
 
     /// Closed-loop poles (1/s), sorted by descending real part.
     pub fn poles(&self) -> Vec<Complex> {
-        let mut out: Vec<Complex> = self
-            .a
-            .clone()
-            .complex_eigenvalues()
-            .iter()
-            .map(|&z| z.into())
-            .collect();
-        super::sort_poles(&mut out);
-        out
+        super::sorted_poles(self.a.complex_eigenvalues().iter().copied())
     }
 
     /// Spectral abscissa: the largest real part of the poles (1/s); < 0 is stable.

@@ -50,5 +50,12 @@ pub fn sort_poles(p: &mut [Complex]) {
     p.sort_by(|a, b| b.re.total_cmp(&a.re).then(b.im.total_cmp(&a.im)));
 }
 
+/// Eigenvalues (from nalgebra's `complex_eigenvalues`) as poles, sorted as [`sort_poles`].
+pub fn sorted_poles(ev: impl IntoIterator<Item = nalgebra::Complex<f64>>) -> Vec<Complex> {
+    let mut out: Vec<Complex> = ev.into_iter().map(Complex::from).collect();
+    sort_poles(&mut out);
+    out
+}
+
 #[cfg(test)]
 mod tests;
