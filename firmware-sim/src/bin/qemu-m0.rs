@@ -42,11 +42,7 @@ fn main() -> ! {
     semihosting::exit(ok && check == Some(400))
 }
 
-#[cfg(target_os = "none")]
-#[panic_handler]
-fn panic(info: &core::panic::PanicInfo) -> ! {
-    maglev_firmware_sim::board::semihosting::panic(info)
-}
+maglev_firmware_sim::semihosting_panic_handler!();
 
 #[cfg(not(target_os = "none"))]
 fn main() {

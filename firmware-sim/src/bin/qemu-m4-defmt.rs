@@ -48,9 +48,4 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
     maglev_firmware_sim::board::semihosting::exit(false)
 }
 
-#[cfg(not(target_os = "none"))]
-fn main() {
-    println!(
-        "qemu-m4-defmt is a bare-metal image: build it for thumbv7em-none-eabihf (docs/hil.md)"
-    );
-}
+maglev_firmware_sim::bare_metal_only!("qemu-m4-defmt");

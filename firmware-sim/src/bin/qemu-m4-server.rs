@@ -32,15 +32,6 @@ fn main() -> ! {
     }
 }
 
-#[cfg(target_os = "none")]
-#[panic_handler]
-fn panic(info: &core::panic::PanicInfo) -> ! {
-    maglev_firmware_sim::board::semihosting::panic(info)
-}
+maglev_firmware_sim::semihosting_panic_handler!();
 
-#[cfg(not(target_os = "none"))]
-fn main() {
-    println!(
-        "qemu-m4-server is a bare-metal image: build it for thumbv7em-none-eabihf (docs/hil.md)"
-    );
-}
+maglev_firmware_sim::bare_metal_only!("qemu-m4-server");

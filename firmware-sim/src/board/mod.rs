@@ -17,3 +17,30 @@ pub mod cmsdk_uart;
 pub mod icount;
 #[cfg(target_os = "none")]
 pub mod semihosting;
+
+/// The panic handler of the QEMU images: report over semihosting and exit with failure.
+#[macro_export]
+macro_rules! semihosting_panic_handler {
+    () => {
+        #[cfg(target_os = "none")]
+        #[panic_handler]
+        fn panic(info: &core::panic::PanicInfo) -> ! {
+            $crate::board::semihosting::panic(info)
+        }
+    };
+}
+
+/// The host `main` of an image that only makes sense on bare metal (so `cargo build` and
+/// `cargo test --workspace` on the host still compile every binary).
+#[macro_export]
+macro_rules! bare_metal_only {
+    ($name:literal) => {
+        #[cfg(not(target_os = "none"))]
+        fn main() {
+            println!(concat!(
+                $name,
+                " is a bare-metal image: build it for thumbv7em-none-eabihf (docs/hil.md)"
+            ));
+        }
+    };
+}
