@@ -125,22 +125,11 @@ impl GapParams {
         ];
         let mut out = [S::ZERO; 4];
         for (slot, (name, value)) in out.iter_mut().zip(coeffs) {
-            let mut ov = false;
-            let s = S::from_f64(value, &mut ov);
-            let rel = if value == 0.0 {
-                0.0
-            } else {
-                ((s.to_f64() - value) / value).abs()
-            };
-            if ov || rel > crate::levitation::DEFAULT_COEFFICIENT_TOLERANCE {
-                return Err(ParamError::Unrepresentable {
-                    name,
-                    value,
-                    relative_error: rel,
-                    scalar: S::NAME,
-                });
-            }
-            *slot = s;
+            *slot = crate::levitation::convert(
+                name,
+                value,
+                crate::levitation::DEFAULT_COEFFICIENT_TOLERANCE,
+            )?;
         }
         let [kp, kdd, kq, x_max] = out;
         Ok(GapLoop {
