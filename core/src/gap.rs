@@ -1,5 +1,9 @@
 //! Gap geometry and the wheel on its target nodes (model.md §2, §5; paper Eq. 2, 15, 16).
 //!
+//! [`Geometry`] holds the one definition of the gap (Eq. 2, both readings) and of the
+//! guidance pair's net force; every simulator, the firmware coupling, the stability analysis
+//! and the tests call it.
+//!
 //! Why here, in the `no_std` core: the gap is what the levitation controller measures, and
 //! the same interpolation that gives the guideway displacement under a wheel (Eq. 16) must
 //! distribute the wheel force back onto the beam (Eq. 15, `f = Nᵀ G`). Keeping both in one
@@ -185,17 +189,76 @@ impl<T: RealField + Copy> WheelShape<T> {
     }
 }
 
-/// Levitation gap (Eq. 2, model.md §2): `h = h0 − (z_w − z_g) + r`, with `z_w` the magnet's
-/// displacement, `z_g` the guideway's at the wheel (Eq. 16) and `r` the rail irregularity.
-pub fn levitation_gap<T: RealField + Copy>(h0: T, z_w: T, z_g: T, r: T) -> T {
-    h0 - (z_w - z_g) + r
+/// How a magnet faces its rail: the sign of Eq. 2 and of the guidance pair's net force
+/// (docs/model.md §2). This is the one place either sign is written.
+///
+/// - [`Geometry::Paper`] (the default, every paper case): Eq. 2 read literally in the paper's
+///   own Z-up axes, `h = h0 + (z_w − z_g) + r`. The wheel moving up *opens* the gap and, at
+///   fixed current, lowers the force: the magnet acts as a soft spring, and the paper's law
+///   gives a bounded ride. Guidance mirrors it: `F_y = G_L − G_R`, each magnet pushing the
+///   wheel back towards the centre as its own gap closes.
+/// - [`Geometry::Ems`]: a real EMS magnet hanging under its rail, `h = h0 − (z_w − z_g) + r`.
+///   Closing the gap raises the force: open-loop unstable, so it needs a gap-feedback law
+///   (`gap_control`). Guidance: `F_y = G_R − G_L`, each magnet pulling towards its own face.
+///
+/// In both, the pair's gaps are `h_L = h0 + d`, `h_R = h0 − d` with `d = y_w − y_g + r_y`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Geometry {
+    /// The paper's literal Eq. 2 (default).
+    #[default]
+    Paper,
+    /// The EMS magnet under its rail.
+    Ems,
 }
 
-/// Guidance pair gaps `(h_L, h_R)` (model.md §2): `h_L = h0 + (y_w − y_g) + r_y`,
-/// `h_R = h0 − (y_w − y_g) − r_y`.
-pub fn guidance_gaps<T: RealField + Copy>(h0: T, y_w: T, y_g: T, r_y: T) -> (T, T) {
-    let rel = y_w - y_g + r_y;
-    (h0 + rel, h0 - rel)
+impl Geometry {
+    /// Levitation gap (Eq. 2): `h = h0 ± (z_w − z_g) + r`, `+` for [`Geometry::Paper`],
+    /// `−` for [`Geometry::Ems`]. `z_w`: the magnet node's displacement, `z_g`: the
+    /// guideway's at the wheel (Eq. 16), `r`: the rail irregularity at the wheel (Eq. 3).
+    pub fn levitation_gap<T: RealField + Copy>(self, h0: T, z_w: T, z_g: T, r: T) -> T {
+        match self {
+            Geometry::Paper => h0 + (z_w - z_g) + r,
+            Geometry::Ems => h0 - (z_w - z_g) + r,
+        }
+    }
+
+    /// d(h)/d(z_w): `+1` (paper) or `−1` (EMS). For linearisations.
+    pub fn levitation_sign(self) -> f64 {
+        match self {
+            Geometry::Paper => 1.0,
+            Geometry::Ems => -1.0,
+        }
+    }
+
+    /// Net lateral force on the wheel from the guidance pair's forces `(G_L, G_R)`:
+    /// `G_L − G_R` (paper), `G_R − G_L` (EMS).
+    pub fn guidance_force<T: core::ops::Sub<Output = T>>(self, left: T, right: T) -> T {
+        match self {
+            Geometry::Paper => left - right,
+            Geometry::Ems => right - left,
+        }
+    }
+
+    /// d(F_y)/d(G_L): `+1` (paper) or `−1` (EMS). For linearisations.
+    pub fn guidance_sign(self) -> f64 {
+        match self {
+            Geometry::Paper => 1.0,
+            Geometry::Ems => -1.0,
+        }
+    }
+}
+
+/// The guidance pair's relative lateral position `d = y_w − y_g + r_y` (docs/model.md §2),
+/// the same in both geometries.
+pub fn lateral_offset<T: RealField + Copy>(y_w: T, y_g: T, r_y: T) -> T {
+    y_w - y_g + r_y
+}
+
+/// Guidance pair gaps `(h_L, h_R) = (h0 + d, h0 − d)` for the lateral offset `d`
+/// ([`lateral_offset`]), the same in both geometries (docs/model.md §2).
+pub fn guidance_gaps<T: RealField + Copy>(h0: T, d: T) -> (T, T) {
+    (h0 + d, h0 - d)
 }
 
 #[cfg(test)]
@@ -362,14 +425,32 @@ mod tests {
     #[test]
     fn gap_formulas() {
         let h0 = 0.01;
-        // Magnet moves up 1 mm relative to a still rail: the gap closes.
-        assert!(close(levitation_gap(h0, 1e-3, 0.0, 0.0), 0.009, 1e-15));
-        // The magnet hangs under the rail: the rail moving down 2 mm (z_g = −2e-3) towards a
-        // still magnet closes the gap by as much.
-        assert!(close(levitation_gap(h0, 0.0, -2e-3, 0.0), 0.008, 1e-15));
-        assert!(close(levitation_gap(h0, 0.0, 0.0, 5e-4), 0.0105, 1e-15));
-        let (hl, hr) = guidance_gaps(h0, 1e-3, 4e-4, 1e-4);
+        let (p, e) = (Geometry::Paper, Geometry::Ems);
+        // Paper (literal Eq. 2): the magnet moving up 1 mm over a still rail opens the gap.
+        assert!(close(p.levitation_gap(h0, 1e-3, 0.0, 0.0), 0.011, 1e-15));
+        // EMS (magnet under its rail): the same motion closes it.
+        assert!(close(e.levitation_gap(h0, 1e-3, 0.0, 0.0), 0.009, 1e-15));
+        // The rail moving down 2 mm (z_g = −2e-3) under a still magnet: paper opens, EMS
+        // closes the gap by as much.
+        assert!(close(p.levitation_gap(h0, 0.0, -2e-3, 0.0), 0.012, 1e-15));
+        assert!(close(e.levitation_gap(h0, 0.0, -2e-3, 0.0), 0.008, 1e-15));
+        // The irregularity adds to the gap in both.
+        assert!(close(p.levitation_gap(h0, 0.0, 0.0, 5e-4), 0.0105, 1e-15));
+        assert!(close(e.levitation_gap(h0, 0.0, 0.0, 5e-4), 0.0105, 1e-15));
+        // The signs used by linearisations agree with the formulas.
+        for g in [p, e] {
+            let dh = g.levitation_gap(h0, 1e-6, 0.0, 0.0) - h0;
+            assert!(close(dh, g.levitation_sign() * 1e-6, 1e-9));
+            assert_eq!(g.guidance_force(1.0, 0.0), g.guidance_sign());
+        }
+        let d = lateral_offset(1e-3, 4e-4, 1e-4);
+        assert!(close(d, 7e-4, 1e-15));
+        let (hl, hr) = guidance_gaps(h0, d);
         assert!(close(hl, h0 + 7e-4, 1e-15) && close(hr, h0 - 7e-4, 1e-15));
         assert!(close(hl + hr, 2.0 * h0, 1e-15));
+        // Wheel to the right (d > 0): the right gap closes, its magnet pulls harder (G_R > G_L).
+        // Paper: the net force is G_L − G_R < 0, back to the centre; EMS: G_R − G_L > 0.
+        assert!(p.guidance_force(1.0, 2.0) < 0.0);
+        assert!(e.guidance_force(1.0, 2.0) > 0.0);
     }
 }

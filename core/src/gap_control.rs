@@ -247,10 +247,11 @@ impl<S: Scalar> GapLoop<S> {
     pub fn update_pair(
         &self,
         inner: &Levitation<S>,
+        geometry: crate::gap::Geometry,
         st: &mut GapPairState<S>,
         d_pu: S,
     ) -> PairOutput<S> {
-        crate::guidance::update_with(&mut st.left, &mut st.right, d_pu, |s, h| {
+        crate::guidance::update_with(geometry, &mut st.left, &mut st.right, d_pu, |s, h| {
             self.update(inner, s, h).inner
         })
     }

@@ -6,12 +6,16 @@
 //! same K0. With `d = y_w − y_g` (wheel relative to rail) and the lateral irregularity r_y:
 //!
 //! ```text
-//! h_L = h0 + d + r_y,   h_R = h0 − d − r_y,   F_y(on the wheel) = G_R − G_L
+//! h_L = h0 + d + r_y,   h_R = h0 − d − r_y,   F_y(on the wheel) = G_L − G_R  (paper)
+//!                                                                = G_R − G_L  (ems)
 //! ```
 //!
-//! Each magnet pulls the wheel towards its own face: moving right closes `h_R` and the right
-//! magnet pulls harder — the open loop is unstable, as in levitation.
+//! The net force's sign is the geometry's ([`Geometry::guidance_force`]): in the paper's
+//! reading each magnet pushes the wheel back to the centre as its own gap closes (the Y
+//! analogue of the literal Eq. 2); under EMS each pulls towards its own face, and the open
+//! loop is unstable, as in EMS levitation.
 
+use crate::gap::Geometry;
 use crate::levitation::{Levitation, Output, State, Status};
 use crate::scalar::Scalar;
 
@@ -33,7 +37,8 @@ pub struct PairOutput<S> {
     pub left: Output<S>,
     /// Right magnet's output.
     pub right: Output<S>,
-    /// Net lateral force on the wheel `(G_R − G_L)/p0`, positive along +Y.
+    /// Net lateral force on the wheel per unit p0, positive along +Y
+    /// ([`Geometry::guidance_force`]).
     pub force_y: S,
     /// Union of both magnets' events.
     pub status: Status,
@@ -50,13 +55,21 @@ pub fn initial_state<S: Scalar>(ctrl: &Levitation<S>, d: f64) -> PairState<S> {
 }
 
 /// One outer step of both magnets. `d_pu` is `(y_w − y_g + r_y)/h0` at the end of the step.
-pub fn update<S: Scalar>(ctrl: &Levitation<S>, st: &mut PairState<S>, d_pu: S) -> PairOutput<S> {
-    update_with(&mut st.left, &mut st.right, d_pu, |s, h| ctrl.update(s, h))
+pub fn update<S: Scalar>(
+    ctrl: &Levitation<S>,
+    geometry: Geometry,
+    st: &mut PairState<S>,
+    d_pu: S,
+) -> PairOutput<S> {
+    update_with(geometry, &mut st.left, &mut st.right, d_pu, |s, h| {
+        ctrl.update(s, h)
+    })
 }
 
 /// The pair's geometry and net force around any per-magnet law: `magnet(state, h/h0)` runs
 /// one magnet for one step (the paper's law here, the gap loop in [`crate::gap_control`]).
 pub fn update_with<S: Scalar, T>(
+    geometry: Geometry,
     left: &mut T,
     right: &mut T,
     d_pu: S,
@@ -67,7 +80,10 @@ pub fn update_with<S: Scalar, T>(
     let h_right = S::ONE.ssub(d_pu, &mut ov);
     let left = magnet(left, h_left);
     let right = magnet(right, h_right);
-    let force_y = right.force.ssub(left.force, &mut ov);
+    let force_y = match geometry {
+        Geometry::Paper => left.force.ssub(right.force, &mut ov),
+        Geometry::Ems => right.force.ssub(left.force, &mut ov),
+    };
     let mut status = left.status.union(right.status);
     if ov {
         status = status.union(Status::OVERFLOW);
@@ -90,25 +106,30 @@ mod tests {
         let ctrl = Params::paper_wheel(1e-3).compile::<f64>().unwrap();
         let mut st = initial_state(&ctrl, 0.0);
         for _ in 0..100 {
-            let out = update(&ctrl, &mut st, 0.0);
+            let out = update(&ctrl, Geometry::Paper, &mut st, 0.0);
             assert_eq!(out.force_y, 0.0);
             assert!(out.status.is_empty());
         }
     }
 
     #[test]
-    fn displaced_wheel_is_pulled_towards_the_nearer_face_at_first() {
+    fn displaced_wheel_force_follows_the_geometry() {
         // Right of centre: the right gap is smaller.
         let mut p = Params::paper_wheel(1e-5);
         p.n_sub = 1;
         let ctrl = p.compile::<f64>().unwrap();
         let mut st = initial_state(&ctrl, 0.0);
         let d = 0.001 / p.h0; // 1 mm to the right
-        let out = update(&ctrl, &mut st, d);
+        let mut st_ems = st;
+        let out = update(&ctrl, Geometry::Paper, &mut st, d);
         // With constant current the smaller right gap would already pull harder; under the
         // law the coil voltage drop R0·h·g makes g rise on the closing side and fall on the
         // opening side in the first step (N = −η in Eq. 14's increment form).
         assert!(out.right.g > out.left.g, "{out:?}");
-        assert!(out.force_y > 0.0);
+        // Paper reading: the closing side pushes the wheel back to the centre (−Y).
+        assert!(out.force_y < 0.0);
+        // EMS: the same magnet states pull it further right (+Y), by the same amount.
+        let ems = update(&ctrl, Geometry::Ems, &mut st_ems, d);
+        assert_eq!(ems.force_y, -out.force_y);
     }
 }

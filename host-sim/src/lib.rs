@@ -8,6 +8,7 @@ pub mod newmark;
 pub mod output;
 pub mod profile;
 pub mod scenario;
+pub mod setup;
 pub mod simulation;
 pub mod stability;
 pub mod vehicle;

@@ -4,6 +4,7 @@
 use crate::guideway::{BeamSection, Bridge};
 use crate::simulation::Law;
 use crate::vehicle::Fig1;
+use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
 use maglev_core::{Interpolation, Params, Scheme};
 use serde::Deserialize;
@@ -18,7 +19,7 @@ pub const BUNDLED: [(&str, &str); 2] = [
 ];
 
 /// Short `--set` keys and the scenario key each stands for.
-pub const SHORT_KEYS: [(&str, &str); 11] = [
+pub const SHORT_KEYS: [(&str, &str); 12] = [
     ("speed", "run.speed_m_per_s"),
     ("model", "run.model"),
     ("elements", "run.elements_per_span"),
@@ -30,6 +31,7 @@ pub const SHORT_KEYS: [(&str, &str); 11] = [
     ("law", "controller.law"),
     ("scheme", "controller.scheme"),
     ("seed", "irregularity.seed"),
+    ("geometry", "vehicle.geometry"),
 ];
 
 #[derive(Deserialize, Debug, Clone)]
@@ -95,12 +97,33 @@ pub enum VehicleSection {
         target_height_m: f64,
         body_height_m: f64,
         wheel_mass_kg: f64,
+        /// How the magnets face their rails (model.md §2); default `paper`.
+        #[serde(default)]
+        geometry: GeometryKey,
     },
     MovingForce {
         force_kN: f64,
         offset_y_m: f64,
         offset_z_m: f64,
     },
+}
+
+/// `vehicle.geometry`: `paper` (Eq. 2 read literally, the default) or `ems`.
+#[derive(Deserialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum GeometryKey {
+    #[default]
+    Paper,
+    Ems,
+}
+
+impl From<GeometryKey> for Geometry {
+    fn from(g: GeometryKey) -> Self {
+        match g {
+            GeometryKey::Paper => Geometry::Paper,
+            GeometryKey::Ems => Geometry::Ems,
+        }
+    }
 }
 
 #[derive(Deserialize, Debug, Clone)]
@@ -154,6 +177,8 @@ pub struct Scenario {
 pub enum Model {
     Fe,
     Modal,
+    /// A guideway that never moves (the vehicle on a rigid, irregular rail).
+    Rigid,
 }
 
 /// Loads a scenario by bundled name or path, applies `key=value` overrides, validates.
@@ -297,7 +322,10 @@ impl Scenario {
         match self.run.model.as_str() {
             "fe" => Ok(Model::Fe),
             "modal" => Ok(Model::Modal),
-            other => Err(format!("run.model must be `fe` or `modal`, got `{other}`")),
+            "rigid" => Ok(Model::Rigid),
+            other => Err(format!(
+                "run.model must be `fe`, `modal` or `rigid`, got `{other}`"
+            )),
         }
     }
 
@@ -337,6 +365,7 @@ impl Scenario {
                 target_height_m,
                 body_height_m,
                 wheel_mass_kg,
+                geometry: _,
             } => {
                 for (n, v) in [
                     ("vehicle.body_mass_t", *body_mass_t),
@@ -372,6 +401,14 @@ impl Scenario {
     }
 
     /// The levitation law (`controller.law`); the paper's without a controller section.
+    /// The vehicle's magnet geometry (model.md §2): `paper` unless the scenario says `ems`.
+    pub fn geometry(&self) -> Geometry {
+        match &self.vehicle {
+            VehicleSection::Fig1 { geometry, .. } => (*geometry).into(),
+            VehicleSection::MovingForce { .. } => Geometry::Paper,
+        }
+    }
+
     pub fn law(&self) -> Result<Law, String> {
         match self.controller.as_ref().map_or("paper", |c| c.law.as_str()) {
             "paper" => Ok(Law::Paper),

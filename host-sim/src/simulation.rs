@@ -19,6 +19,7 @@ pub mod magnets;
 use crate::guideway::{Guideway, PointLoad, SectionMotion};
 use crate::newmark::Newmark;
 use crate::vehicle::VehicleModel;
+use maglev_core::gap::{self, Geometry};
 use maglev_core::gap_control::GapParams;
 use maglev_core::{Params, Status};
 use nalgebra::DVector;
@@ -67,6 +68,8 @@ pub struct Settings {
     pub controller: Params,
     /// Levitation law.
     pub law: Law,
+    /// How the magnets face their rails (Eq. 2 and the guidance pair's sign, model.md §2).
+    pub geometry: Geometry,
     /// Convergence tolerance on the gaps between two iterations (m).
     pub tolerance: f64,
     pub max_iterations: u32,
@@ -86,13 +89,29 @@ pub struct Record {
     pub wheel1_force_z: f64,
     pub iterations: u32,
     pub status: Status,
+    /// Some magnet's gap was at or below zero at the end of the step (a collision).
+    pub collision: bool,
 }
+
+/// The range `(min, max)` (m) of each magnet's gap over a run, per wheel: levitation,
+/// guidance left, guidance right.
+pub type GapRanges = Vec<[(f64, f64); 3]>;
 
 /// Result of a run.
 pub struct Outcome {
     pub records: Vec<Record>,
     /// Steps whose iterations hit `max_iterations` without converging.
     pub unconverged_steps: usize,
+    /// Steps in which some magnet's gap was at or below zero.
+    pub collision_steps: usize,
+    /// Each magnet's gap range over the run (empty for a moving force).
+    pub gap_ranges: GapRanges,
+}
+
+/// The three magnet gaps `[h_z, h_L, h_R]` (m) of a wheel's gaps (model.md §2).
+pub fn magnet_gaps((hz, d): WheelGaps, h0: f64) -> [f64; 3] {
+    let (hl, hr) = gap::guidance_gaps(h0, d);
+    [hz, hl, hr]
 }
 
 /// Per wheel: the levitation gap `h_z` (m, Eq. 2) and the relative lateral position
@@ -173,6 +192,7 @@ pub fn simulate<G: Guideway>(
                     wheel1_force_z: *force,
                     iterations: 1,
                     status: Status::default(),
+                    collision: false,
                 });
                 if n % 1000 == 0 {
                     progress(n as f64 / steps as f64);
@@ -181,6 +201,8 @@ pub fn simulate<G: Guideway>(
             Ok(Outcome {
                 records,
                 unconverged_steps: 0,
+                collision_steps: 0,
+                gap_ranges: Vec::new(),
             })
         }
         Load::Vehicle(v) => {
@@ -208,6 +230,11 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     let steps = (s.t_end / dt).round() as usize;
     let nw = v.wheels.len();
     let mut gaps_prev = initial_gaps(v, profiles, h0);
+    let mut ranges: GapRanges = gaps_prev
+        .iter()
+        .map(|&g| magnet_gaps(g, h0).map(|h| (h, h)))
+        .collect();
+    let mut collision_steps = 0;
     let mut records = Vec::with_capacity(steps + 1);
     records.push(Record {
         midspan: guideway.section_at(s.midspan_x),
@@ -234,8 +261,10 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
                 .enumerate()
                 .map(|(i, w)| {
                     let m = gw.motion_at(xs[i], w.ey, w.ez);
-                    // Eq. 2 (Z) and model.md §2 (Y, relative lateral position).
-                    (h0 - (u[w.dof_z] - m.z) + rz[i], u[w.dof_y] - m.y + ry[i])
+                    (
+                        s.geometry.levitation_gap(h0, u[w.dof_z], m.z, rz[i]),
+                        gap::lateral_offset(u[w.dof_y], m.y, ry[i]),
+                    )
                 })
                 .collect()
         };
@@ -278,6 +307,14 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
         guideway.commit();
         veh.commit();
         gaps_prev.copy_from_slice(&gaps_used);
+        let mut collision = false;
+        for (r, &g) in ranges.iter_mut().zip(&gaps_used) {
+            for (r, h) in r.iter_mut().zip(magnet_gaps(g, h0)) {
+                *r = (r.0.min(h), r.1.max(h));
+                collision |= h <= 0.0;
+            }
+        }
+        collision_steps += usize::from(collision);
         let w1 = &v.wheels[0];
         records.push(Record {
             t,
@@ -288,6 +325,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             wheel1_force_z: forces[0].0,
             iterations,
             status: magnets.status(),
+            collision,
         });
         if n % 200 == 0 {
             progress(n as f64 / steps as f64);
@@ -296,5 +334,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     Ok(Outcome {
         records,
         unconverged_steps: unconverged,
+        collision_steps,
+        gap_ranges: ranges,
     })
 }

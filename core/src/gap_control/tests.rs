@@ -3,6 +3,7 @@
 
 extern crate std;
 use super::*;
+use crate::gap::Geometry;
 use crate::levitation::Params;
 use crate::scalar::{I32F32, I4F28};
 use std::vec::Vec;
@@ -156,8 +157,14 @@ fn pair_with_zero_gains_is_the_papers_pair() {
     let mut b = gl.pair_equilibrium_state(&inner, 2e-4);
     for k in 0..200 {
         let d = 0.02 + 0.05 * (k as f64 * 0.07).sin();
-        let oa = crate::guidance::update(&inner, &mut a, d);
-        let ob = gl.update_pair(&inner, &mut b, d);
+        for g in [Geometry::Paper, Geometry::Ems] {
+            let (mut a, mut b) = (a, b);
+            let oa = crate::guidance::update(&inner, g, &mut a, d);
+            let ob = gl.update_pair(&inner, g, &mut b, d);
+            assert_eq!(oa, ob);
+        }
+        let oa = crate::guidance::update(&inner, Geometry::Paper, &mut a, d);
+        let ob = gl.update_pair(&inner, Geometry::Paper, &mut b, d);
         assert_eq!(oa, ob);
     }
 }

@@ -14,9 +14,10 @@ use super::link::Link;
 use super::HilSettings;
 use crate::guideway::Guideway;
 use crate::simulation::{
-    couple, initial_gaps, Law, Magnets, Profiles, Record, Settings, WheelGaps,
+    couple, initial_gaps, magnet_gaps, Law, Magnets, Profiles, Record, Settings, WheelGaps,
 };
 use crate::vehicle::VehicleModel;
+use maglev_core::gap::Geometry;
 use maglev_core::Status;
 use maglev_firmware_sim::protocol::{ChannelInit, Config, LawConfig, Reply, Request, Response};
 use maglev_firmware_sim::supervision::Event;
@@ -50,6 +51,7 @@ pub struct FirmwareMagnets<'a> {
     ticks: usize,
     h0: f64,
     p0: Vec<f64>,
+    geometry: Geometry,
     codes: maglev_firmware_sim::heapless::Vec<u16, { maglev_firmware_sim::protocol::MAX_SAMPLES }>,
     /// The reply of the last `Step` (its events are logged on commit).
     last: Option<Reply>,
@@ -77,7 +79,7 @@ impl<'a> FirmwareMagnets<'a> {
         let h0 = p.h0;
         let mut channels = maglev_firmware_sim::heapless::Vec::new();
         for (&p0, &(hz, d)) in v.p0.iter().zip(gaps0) {
-            for gap in [hz, h0 + d, h0 - d] {
+            for gap in magnet_gaps((hz, d), h0) {
                 channels
                     .push(ChannelInit { p0, gap })
                     .map_err(|_| "too many magnet channels for the protocol")?;
@@ -125,6 +127,7 @@ impl<'a> FirmwareMagnets<'a> {
             ticks,
             h0,
             p0: v.p0.clone(),
+            geometry: s.geometry,
             codes: maglev_firmware_sim::heapless::Vec::new(),
             last: None,
             events: Vec::new(),
@@ -132,8 +135,8 @@ impl<'a> FirmwareMagnets<'a> {
     }
 
     /// The three channel gaps (m) of a wheel: levitation, guidance left, guidance right.
-    fn channel_gaps(&self, (hz, d): WheelGaps) -> [f64; 3] {
-        [hz, self.h0 + d, self.h0 - d]
+    fn channel_gaps(&self, w: WheelGaps) -> [f64; 3] {
+        magnet_gaps(w, self.h0)
     }
 }
 
@@ -174,7 +177,7 @@ impl Magnets for FirmwareMagnets<'_> {
             let gz = force(c[0].g_q28, p0);
             let gl = force(c[1].g_q28, p0);
             let gr = force(c[2].g_q28, p0);
-            *o = (gz, gr - gl);
+            *o = (gz, self.geometry.guidance_force(gl, gr));
         }
         self.last = Some(reply);
         Ok(())

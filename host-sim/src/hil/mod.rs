@@ -14,11 +14,9 @@ pub mod compare;
 pub mod coupling;
 pub mod link;
 
-use crate::cli::run::{fe_guideway, profiles_for};
-use crate::modal::ModalGuideway;
-use crate::scenario::{Model, Scenario, VehicleSection};
-use crate::simulation::Settings;
-use crate::vehicle::VehicleModel;
+use crate::scenario::{Scenario, VehicleSection};
+use crate::setup::Passage;
+use crate::simulation::Load;
 use board::SensorFault;
 use coupling::{simulate_hil, HilOutcome};
 use link::Link;
@@ -138,35 +136,19 @@ pub fn execute_hil(
     let VehicleSection::Fig1 { .. } = &sc.vehicle else {
         return Err("hil needs a vehicle with magnets (vehicle.kind = \"fig1\")".into());
     };
-    let bridge = sc.bridge();
-    let dt = sc.run.dt_s;
-    let v = VehicleModel::fig1(&sc.fig1()?, maglev_core::levitation::GRAVITY);
-    let load = crate::simulation::Load::Vehicle(v);
-    let profiles = profiles_for(sc, &load)?;
-    let crate::simulation::Load::Vehicle(v) = load else {
-        unreachable!()
-    };
-    let settings = Settings {
-        speed: sc.run.speed_m_per_s,
-        dt,
-        t_end: sc.t_end(),
-        controller: sc.controller_params()?,
-        tolerance: sc.run.tolerance_m,
-        max_iterations: sc.run.max_iterations,
-        midspan_x: bridge.spans[0] / 2.0,
-        law: sc.law()?,
+    let mut p = Passage::new(sc)?;
+    let Load::Vehicle(v) = &p.load else {
+        unreachable!("a fig1 scenario builds a vehicle")
     };
     let start = Instant::now();
-    let out = match sc.model()? {
-        Model::Modal => {
-            let mut g =
-                ModalGuideway::from_bridge(&bridge, sc.run.modes, dt).map_err(|e| e.to_string())?;
-            simulate_hil(&mut g, &v, &profiles, &settings, hs, link, progress)?
-        }
-        Model::Fe => {
-            let mut g = fe_guideway(&bridge, sc.run.elements_per_span, dt)?;
-            simulate_hil(&mut g, &v, &profiles, &settings, hs, link, progress)?
-        }
-    };
+    let out = simulate_hil(
+        &mut p.guideway,
+        v,
+        &p.profiles,
+        &p.settings,
+        hs,
+        link,
+        progress,
+    )?;
     Ok((out, start.elapsed().as_secs_f64()))
 }

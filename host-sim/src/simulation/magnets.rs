@@ -5,6 +5,7 @@
 
 use super::{Law, Magnets, Settings, WheelGaps};
 use crate::vehicle::VehicleModel;
+use maglev_core::gap::Geometry;
 use maglev_core::gap_control::{GapLoop, GapPairState, GapState};
 use maglev_core::guidance;
 use maglev_core::{Levitation, Status};
@@ -24,6 +25,7 @@ pub struct CoreMagnets {
     ctl: Vec<WheelCtl>,
     trial: Vec<(GapState<f64>, GapPairState<f64>)>,
     status: Status,
+    geometry: Geometry,
 }
 
 impl CoreMagnets {
@@ -65,6 +67,7 @@ impl CoreMagnets {
             trial: Vec::with_capacity(ctl.len()),
             ctl,
             status: Status::default(),
+            geometry: s.geometry,
         })
     }
 }
@@ -92,13 +95,13 @@ impl Magnets for CoreMagnets {
             };
             let mut pair = c.pair;
             let pair_out = match &c.outer {
-                Some(o) => o.update_pair(&c.lev, &mut pair, dy / h0),
+                Some(o) => o.update_pair(&c.lev, self.geometry, &mut pair, dy / h0),
                 None => {
                     let mut ps = guidance::PairState {
                         left: pair.left.inner,
                         right: pair.right.inner,
                     };
-                    let o = guidance::update(&c.lev, &mut ps, dy / h0);
+                    let o = guidance::update(&c.lev, self.geometry, &mut ps, dy / h0);
                     (pair.left.inner, pair.right.inner) = (ps.left, ps.right);
                     o
                 }
