@@ -38,7 +38,11 @@ fn main() {
     let result = match args.command {
         Command::Control(a) => cli::control::run(a),
         Command::Irregularity(a) => cli::irregularity::run(a),
-        Command::Run(a) => cli::run::run(a),
+        Command::Run(a) => match cli::run::run(a) {
+            Ok(true) => Ok(()),
+            Ok(false) => std::process::exit(3),
+            Err(e) => Err(e),
+        },
         Command::Modes(a) => cli::modes::run(a),
         Command::Validate(a) => cli::validate::run_cmd(a),
         Command::Stability(a) => cli::stability::run(a),

@@ -1,9 +1,9 @@
-//! Run outputs: `response.csv`, `summary.json` and SVG plots of the histories.
+//! Run outputs: `response.csv`, `summary.json`, `profile.csv` and SVG plots of the histories.
 //!
 //! The SVG writer is a few dozen lines on purpose: polylines with axes, ticks and a legend are
 //! all the figures need, and a plotting crate would double the clean build time.
 
-use crate::simulation::Record;
+use crate::simulation::{GapRanges, Outcome, Record};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -28,7 +28,7 @@ pub fn response_csv(records: &[Record]) -> String {
     let mut s = String::with_capacity(records.len() * 160);
     let names: Vec<&str> = COLUMNS.iter().map(|(n, _)| *n).collect();
     s.push_str(&names.join(","));
-    s.push_str(",iterations\n");
+    s.push_str(",iterations,collision\n");
     for r in records {
         for (i, (_, get)) in COLUMNS.iter().enumerate() {
             if i > 0 {
@@ -39,7 +39,7 @@ pub fn response_csv(records: &[Record]) -> String {
                 let _ = write!(s, "{v}");
             }
         }
-        let _ = writeln!(s, ",{}", r.iterations);
+        let _ = writeln!(s, ",{},{}", r.iterations, u8::from(r.collision));
     }
     s
 }
@@ -75,17 +75,43 @@ pub struct Summary {
     pub mean_iterations: f64,
     pub max_iterations: u32,
     pub unconverged_steps: usize,
+    /// Steps in which some magnet's gap was at or below zero.
+    pub collision_steps: usize,
+    /// Each magnet's gap range over the run (m).
+    pub gaps: Vec<GapRange>,
     pub peaks: std::collections::BTreeMap<String, Option<Peak>>,
 }
 
+/// One magnet's gap range over a run.
+#[derive(Serialize, Debug, Clone, PartialEq)]
+pub struct GapRange {
+    /// `wheel{N}.z` (levitation), `wheel{N}.left`, `wheel{N}.right` (guidance pair).
+    pub magnet: String,
+    pub min_m: f64,
+    pub max_m: f64,
+}
+
+/// Names and ranges of every magnet's gap, wheel by wheel.
+pub fn gap_ranges(ranges: &GapRanges) -> Vec<GapRange> {
+    ranges
+        .iter()
+        .enumerate()
+        .flat_map(|(i, r)| {
+            ["z", "left", "right"]
+                .iter()
+                .zip(r)
+                .map(move |(m, &(min, max))| GapRange {
+                    magnet: format!("wheel{}.{m}", i + 1),
+                    min_m: min,
+                    max_m: max,
+                })
+        })
+        .collect()
+}
+
 impl Summary {
-    pub fn new(
-        scenario: &str,
-        model: &str,
-        records: &[Record],
-        wall: f64,
-        unconverged: usize,
-    ) -> Self {
+    pub fn new(scenario: &str, model: &str, outcome: &Outcome, wall: f64) -> Self {
+        let records = &outcome.records;
         let steps = records.len().saturating_sub(1);
         let simulated = records.last().map_or(0.0, |r| r.t);
         let iters: Vec<u32> = records.iter().skip(1).map(|r| r.iterations).collect();
@@ -112,7 +138,9 @@ impl Summary {
             steps,
             mean_iterations: mean,
             max_iterations: iters.iter().copied().max().unwrap_or(0),
-            unconverged_steps: unconverged,
+            unconverged_steps: outcome.unconverged_steps,
+            collision_steps: outcome.collision_steps,
+            gaps: gap_ranges(&outcome.gap_ranges),
             peaks,
         }
     }
@@ -294,14 +322,27 @@ fn esc(s: &str) -> String {
         .replace('>', "&gt;")
 }
 
-/// Writes `response.csv`, `summary.json` and one SVG per history into `dir`.
-pub fn write_run(dir: &Path, records: &[Record], summary: &Summary) -> Result<(), String> {
+/// `profile.csv` text: the irregularity a run used, `x, r_y, r_z` (m), at every position a
+/// wheel occupied at a step (docs/model.md §3), so the case can be rerun in another tool.
+pub fn profile_csv(profile: &[[f64; 3]]) -> String {
+    let mut s = String::with_capacity(profile.len() * 60 + 16);
+    s.push_str("x,r_y,r_z\n");
+    for [x, ry, rz] in profile {
+        let _ = writeln!(s, "{x},{ry},{rz}");
+    }
+    s
+}
+
+/// Writes `response.csv`, `summary.json`, `profile.csv` and one SVG per history into `dir`.
+pub fn write_run(dir: &Path, outcome: &Outcome, summary: &Summary) -> Result<(), String> {
+    let records = &outcome.records;
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let put = |name: &str, text: &str| {
         let p = dir.join(name);
         std::fs::write(&p, text).map_err(|e| format!("cannot write {}: {e}", p.display()))
     };
     put("response.csv", &response_csv(records))?;
+    put("profile.csv", &profile_csv(&outcome.profile))?;
     put(
         "summary.json",
         &(serde_json::to_string_pretty(summary).map_err(|e| e.to_string())? + "\n"),

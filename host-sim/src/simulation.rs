@@ -106,6 +106,9 @@ pub struct Outcome {
     pub collision_steps: usize,
     /// Each magnet's gap range over the run (empty for a moving force).
     pub gap_ranges: GapRanges,
+    /// The irregularity the run used, `[x, r_y, r_z]` (m) at every position a wheel occupied
+    /// at a step, sorted by x, duplicates removed (empty for a moving force).
+    pub profile: Vec<[f64; 3]>,
 }
 
 /// The three magnet gaps `[h_z, h_L, h_R]` (m) of a wheel's gaps (model.md §2).
@@ -203,6 +206,7 @@ pub fn simulate<G: Guideway>(
                 unconverged_steps: 0,
                 collision_steps: 0,
                 gap_ranges: Vec::new(),
+                profile: Vec::new(),
             })
         }
         Load::Vehicle(v) => {
@@ -235,6 +239,10 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
         .map(|&g| magnet_gaps(g, h0).map(|h| (h, h)))
         .collect();
     let mut collision_steps = 0;
+    let mut profile: Vec<[f64; 3]> = Vec::with_capacity((steps + 1) * nw);
+    for w in &v.wheels {
+        profile.push([w.x0, (profiles.y)(w.x0), (profiles.z)(w.x0)]);
+    }
     let mut records = Vec::with_capacity(steps + 1);
     records.push(Record {
         midspan: guideway.section_at(s.midspan_x),
@@ -254,6 +262,9 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
         let xs: Vec<f64> = v.wheels.iter().map(|w| w.x0 + s.speed * t).collect();
         let rz: Vec<f64> = xs.iter().map(|&x| (profiles.z)(x)).collect();
         let ry: Vec<f64> = xs.iter().map(|&x| (profiles.y)(x)).collect();
+        for i in 0..nw {
+            profile.push([xs[i], ry[i], rz[i]]);
+        }
         // Gaps at t from a displacement estimate (the committed state on the first pass).
         let gaps = |u: &DVector<f64>, gw: &G| -> Vec<WheelGaps> {
             v.wheels
@@ -331,10 +342,13 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             progress(n as f64 / steps as f64);
         }
     }
+    profile.sort_by(|a, b| a[0].total_cmp(&b[0]));
+    profile.dedup_by(|a, b| a[0] == b[0]);
     Ok(Outcome {
         records,
         unconverged_steps: unconverged,
         collision_steps,
         gap_ranges: ranges,
+        profile,
     })
 }

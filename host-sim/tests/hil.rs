@@ -38,7 +38,8 @@ fn gap_loop_scenario(t_end: &str) -> scenario::Scenario {
 }
 
 fn bits(o: &HilOutcome) -> Vec<[u64; 4]> {
-    o.records
+    o.run
+        .records
         .iter()
         .map(|r| {
             [
@@ -89,7 +90,7 @@ fn gap_loop_firmware_holds_the_gap_bit_identically_over_the_stream_link() {
     assert_eq!(a.events, b.events);
     // Past the paper law's contact (t = 0.075 s) without any event, the gap within 3 mm of h0.
     assert!(a.events.is_empty(), "{:?}", a.events.first());
-    let gaps = a.records.iter().map(|r| r.wheel1_gap_z);
+    let gaps = a.run.records.iter().map(|r| r.wheel1_gap_z);
     let (lo, hi) = gaps.fold((f64::MAX, f64::MIN), |(l, h), g| (l.min(g), h.max(g)));
     assert!(lo > 0.009 && hi < 0.0135, "{lo} … {hi}");
     // The paper's law on the same passage differs (and would drift to contact).
@@ -100,7 +101,7 @@ fn gap_loop_firmware_holds_the_gap_bit_identically_over_the_stream_link() {
     // Against the ideal core run of the same law: close (the ideal samples the outer loop once
     // per 1 ms host step, the firmware once per 100 µs tick; docs/hil.md).
     let ideal = maglev_host_sim::cli::run::execute(&sc, |_| {}).unwrap().0;
-    let c = maglev_host_sim::hil::compare::compare(&a.records, &ideal.records).unwrap();
+    let c = maglev_host_sim::hil::compare::compare(&a.run.records, &ideal.records).unwrap();
     assert!(c.wheel1_gap_z.relative < 0.03, "{c:?}");
     assert!(c.midspan_z.relative < 0.01, "{c:?}");
     assert!(
@@ -124,9 +125,10 @@ fn f32_firmware_and_delay_run_and_differ_from_the_default() {
         let o = run(&mut InProc::default(), &hs, "0.03");
         assert_ne!(bits(&o), bits(&base));
         let d = o
+            .run
             .records
             .iter()
-            .zip(&base.records)
+            .zip(&base.run.records)
             .map(|(a, b)| (a.wheel1_gap_z - b.wheel1_gap_z).abs())
             .fold(0.0, f64::max);
         assert!(d < 1e-6, "{d}");
@@ -177,7 +179,7 @@ fn sensor_faults_raise_events_at_the_documented_times() {
         first(&o, Event::FAULT)
     );
     // After the fault the forces leave the clean run's (the magnets are being switched off).
-    let last = |o: &HilOutcome| o.records.last().unwrap().wheel1_force_z;
+    let last = |o: &HilOutcome| o.run.records.last().unwrap().wheel1_force_z;
     assert!(
         last(&o) < 0.9 * last(&clean),
         "{} vs {}",

@@ -292,11 +292,11 @@ pub fn run(args: Args) -> Result<(), String> {
     let (events, first_fault_s) = event_counts(&outcome);
     let (cmp, cmp_before) = if args.compare {
         let (ideal, _) = execute(&sc, |_| {})?;
-        let all = compare(&outcome.records, &ideal.records)?;
+        let all = compare(&outcome.run.records, &ideal.records)?;
         let before = match first_fault_s {
             Some(tf) => {
-                let k = outcome.records.iter().take_while(|r| r.t < tf).count();
-                Some(compare(&outcome.records[..k], &ideal.records[..k])?)
+                let k = outcome.run.records.iter().take_while(|r| r.t < tf).count();
+                Some(compare(&outcome.run.records[..k], &ideal.records[..k])?)
             }
             None => None,
         };
@@ -304,13 +304,7 @@ pub fn run(args: Args) -> Result<(), String> {
     } else {
         (None, None)
     };
-    let run = Summary::new(
-        &args.scenario,
-        &sc.run.model,
-        &outcome.records,
-        wall,
-        outcome.unconverged_steps,
-    );
+    let run = Summary::new(&args.scenario, &sc.run.model, &outcome.run, wall);
     let summary = HilSummary {
         firmware: format!("{:?}", args.firmware).to_lowercase(),
         qemu_link: (args.firmware == FirmwareMode::Qemu)
@@ -328,7 +322,7 @@ pub fn run(args: Args) -> Result<(), String> {
         compare_before_fault: cmp_before,
         run,
     };
-    write_run(&args.out, &outcome.records, &summary.run)?;
+    write_run(&args.out, &outcome.run, &summary.run)?;
     let put = |name: &str, text: String| {
         let p = args.out.join(name);
         std::fs::write(&p, text).map_err(|e| format!("cannot write {}: {e}", p.display()))
@@ -338,12 +332,7 @@ pub fn run(args: Args) -> Result<(), String> {
         serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())? + "\n",
     )?;
     put("events.csv", events_csv(&outcome))?;
-    if outcome.unconverged_steps > 0 {
-        eprintln!(
-            "maglev: warning: {} step(s) hit max_iterations without converging",
-            outcome.unconverged_steps
-        );
-    }
+    crate::cli::run::warn(&outcome.run);
     eprintln!(
         "maglev: hil ({}) {} steps, {:.3} s simulated in {:.2} s wall; {} exchanges, {:.0}/s in the link \
          ({} retries); wrote {}",

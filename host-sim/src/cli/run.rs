@@ -1,6 +1,7 @@
-//! `maglev run SCENARIO [--set key=value]... [--out DIR]`: one passage, FE or modal guideway.
+//! `maglev run SCENARIO [--set key=value]... [--out DIR] [--strict]`: one passage over an FE,
+//! modal or rigid guideway.
 
-use crate::output::{write_run, Summary};
+use crate::output::{gap_ranges, write_run, Summary};
 use crate::scenario::{self, Scenario};
 use crate::setup::Passage;
 use crate::simulation::{simulate, Outcome};
@@ -18,6 +19,9 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
+    /// Exit with status 3 when any step collides or any magnet's gap leaves (0, 2·h0).
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Runs a scenario; `progress` gets the fraction done. Returns the outcome and wall seconds.
@@ -28,7 +32,50 @@ pub fn execute(sc: &Scenario, progress: impl FnMut(f64)) -> Result<(Outcome, f64
     Ok((outcome, start.elapsed().as_secs_f64()))
 }
 
-pub fn run(args: Args) -> Result<(), String> {
+/// What `--strict` refuses: a collision, or a gap outside `(0, 2·h0)`. `None` when the run
+/// is within bounds (a moving force has no gaps and always is).
+pub fn strict_violation(outcome: &Outcome, h0: f64) -> Option<String> {
+    if outcome.collision_steps > 0 {
+        return Some(format!(
+            "{} step(s) with a collision (a gap ≤ 0)",
+            outcome.collision_steps
+        ));
+    }
+    gap_ranges(&outcome.gap_ranges)
+        .into_iter()
+        .find(|g| !(g.min_m > 0.0 && g.max_m < 2.0 * h0))
+        .map(|g| {
+            format!(
+                "gap {} ranged over [{:.3}, {:.3}] mm, outside (0, 2·h0) = (0, {:.3}) mm",
+                g.magnet,
+                g.min_m * 1e3,
+                g.max_m * 1e3,
+                2e3 * h0
+            )
+        })
+}
+
+/// Warns on stderr about unconverged steps and collisions.
+pub fn warn(outcome: &Outcome) {
+    if outcome.unconverged_steps > 0 {
+        eprintln!(
+            "maglev: warning: {} step(s) hit max_iterations without converging",
+            outcome.unconverged_steps
+        );
+    }
+    if outcome.collision_steps > 0 {
+        let first = outcome.records.iter().find(|r| r.collision).map(|r| r.t);
+        eprintln!(
+            "maglev: warning: {} step(s) with a collision (some magnet's gap ≤ 0), the first at t = {} s; the run went on with the gap clamped in the law, so the histories after it are not physical",
+            outcome.collision_steps,
+            first.unwrap_or(f64::NAN)
+        );
+    }
+}
+
+/// Runs the command. `Ok(false)`: `--strict` and the run collided or left its gap bounds
+/// (the outputs are written; the caller exits 3).
+pub fn run(args: Args) -> Result<bool, String> {
     let sc = scenario::load(&args.scenario, &args.sets)?;
     let mut last = Instant::now();
     let (outcome, wall) = execute(&sc, |f| {
@@ -37,20 +84,9 @@ pub fn run(args: Args) -> Result<(), String> {
             last = Instant::now();
         }
     })?;
-    if outcome.unconverged_steps > 0 {
-        eprintln!(
-            "maglev: warning: {} step(s) hit max_iterations without converging",
-            outcome.unconverged_steps
-        );
-    }
-    let summary = Summary::new(
-        &args.scenario,
-        &sc.run.model,
-        &outcome.records,
-        wall,
-        outcome.unconverged_steps,
-    );
-    write_run(&args.out, &outcome.records, &summary)?;
+    warn(&outcome);
+    let summary = Summary::new(&args.scenario, &sc.run.model, &outcome, wall);
+    write_run(&args.out, &outcome, &summary)?;
     eprintln!(
         "maglev: {} steps, {:.3} s simulated in {:.2} s wall; wrote {}",
         summary.steps,
@@ -58,5 +94,12 @@ pub fn run(args: Args) -> Result<(), String> {
         wall,
         args.out.display()
     );
-    Ok(())
+    if args.strict {
+        let h0 = sc.controller.as_ref().map_or(0.0, |c| c.h0_m);
+        if let Some(v) = strict_violation(&outcome, h0) {
+            eprintln!("maglev: strict: {v}");
+            return Ok(false);
+        }
+    }
+    Ok(true)
 }

@@ -14,7 +14,7 @@ use super::link::Link;
 use super::HilSettings;
 use crate::guideway::Guideway;
 use crate::simulation::{
-    couple, initial_gaps, magnet_gaps, Law, Magnets, Profiles, Record, Settings, WheelGaps,
+    couple, initial_gaps, magnet_gaps, Law, Magnets, Outcome, Profiles, Settings, WheelGaps,
 };
 use crate::vehicle::VehicleModel;
 use maglev_core::gap::Geometry;
@@ -32,8 +32,8 @@ pub struct EventRecord {
 
 /// Result of a HIL run.
 pub struct HilOutcome {
-    pub records: Vec<Record>,
-    pub unconverged_steps: usize,
+    /// What every passage reports (records, collisions, gap ranges, profile).
+    pub run: Outcome,
     pub events: Vec<EventRecord>,
 }
 
@@ -220,8 +220,7 @@ pub fn simulate_hil<G: Guideway>(
     let mut magnets = FirmwareMagnets::new(v, &gaps0, s, hs, link)?;
     let out = couple(guideway, v, profiles, s, &mut magnets, progress)?;
     Ok(HilOutcome {
-        records: out.records,
-        unconverged_steps: out.unconverged_steps,
+        run: out,
         events: magnets.events,
     })
 }
