@@ -42,6 +42,8 @@ impl Guideway for RigidGuideway {
 }
 
 /// The scenario's guideway model, built (enum dispatch keeps the coupling loop monomorphic).
+// One value per run: the size difference between the variants costs nothing.
+#[allow(clippy::large_enum_variant)]
 pub enum AnyGuideway {
     Fe(FeGuideway),
     Modal(ModalGuideway),
