@@ -2,7 +2,7 @@
 //! overrides. Conversion to SI happens here, once; the solvers never see kN or tonnes.
 
 use crate::guideway::{BeamSection, Bridge};
-use crate::simulation::Law;
+use crate::simulation::{Law, MovingLoad};
 use crate::vehicle::Fig1;
 use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
@@ -10,8 +10,12 @@ use maglev_core::{Interpolation, Params, Scheme};
 use serde::Deserialize;
 
 /// Bundled scenarios: (name, TOML text).
-pub const BUNDLED: [(&str, &str); 2] = [
+pub const BUNDLED: [(&str, &str); 3] = [
     ("paper-4.2", include_str!("../scenarios/paper-4.2.toml")),
+    (
+        "train-forces",
+        include_str!("../scenarios/train-forces.toml"),
+    ),
     (
         "moving-force",
         include_str!("../scenarios/moving-force.toml"),
@@ -19,6 +23,10 @@ pub const BUNDLED: [(&str, &str); 2] = [
 ];
 
 /// Short `--set` keys and the scenario key each stands for.
+/// The most time steps a case may take (t_end / dt): 10⁷ steps is hours of wall time for a
+/// vehicle passage; a larger count is a typo in dt or t_end far more often than intent.
+pub const MAX_STEPS: f64 = 1e7;
+
 pub const SHORT_KEYS: [(&str, &str); 12] = [
     ("speed", "run.speed_m_per_s"),
     ("model", "run.model"),
@@ -106,7 +114,31 @@ pub enum VehicleSection {
         offset_y_m: f64,
         offset_z_m: f64,
     },
+    /// Constant vertical moving loads (`[train] kind = "forces"`): one car's loads, repeated.
+    Forces {
+        /// One car's loads (kN, downward).
+        loads_kN: Vec<f64>,
+        /// Each load's distance behind the car's leading load (m).
+        offsets_m: Vec<f64>,
+        /// Identical cars, one behind the other (default 1).
+        #[serde(default = "one")]
+        repeat: usize,
+        /// Spacing of the repeated cars (m); needed when `repeat > 1`.
+        car_length_m: Option<f64>,
+        /// Offset of the loads from the beam axis, Y and Z (m); default on the axis.
+        #[serde(default)]
+        offset_y_m: f64,
+        #[serde(default)]
+        offset_z_m: f64,
+    },
 }
+
+fn one() -> usize {
+    1
+}
+
+/// The most loads a `forces` train may carry.
+pub const MAX_LOADS: usize = 100_000;
 
 /// `vehicle.geometry`: `paper` (Eq. 2 read literally, the default) or `ems`.
 #[derive(Deserialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -167,6 +199,8 @@ pub struct IrregularitySection {
 pub struct Scenario {
     pub run: RunSection,
     pub bridge: BridgeSection,
+    /// `[vehicle]`, or `[train]` (the same section under the name a train reads better by).
+    #[serde(alias = "train")]
     pub vehicle: VehicleSection,
     pub controller: Option<ControllerSection>,
     pub irregularity: Option<IrregularitySection>,
@@ -308,13 +342,102 @@ impl Scenario {
                 self.controller_params()?;
                 self.law()?;
             }
-            VehicleSection::MovingForce { force_kN, .. } => {
-                if !force_kN.is_finite() {
-                    return Err("vehicle.force_kN must be a finite number".into());
+            VehicleSection::Forces { .. } => {
+                self.forces()?;
+            }
+            VehicleSection::MovingForce {
+                force_kN,
+                offset_y_m,
+                offset_z_m,
+            } => {
+                for (n, v) in [
+                    ("vehicle.force_kN", *force_kN),
+                    ("vehicle.offset_y_m", *offset_y_m),
+                    ("vehicle.offset_z_m", *offset_z_m),
+                ] {
+                    if !v.is_finite() {
+                        return Err(format!("{n} must be a finite number, got {v}"));
+                    }
                 }
             }
         }
+        let steps = self.t_end() / self.run.dt_s;
+        if !(steps <= MAX_STEPS) {
+            return Err(format!(
+                "run.t_end_s / run.dt_s = {steps:.3e} steps exceeds the limit of {MAX_STEPS:.0e} steps"
+            ));
+        }
         Ok(())
+    }
+
+    /// The loads of a `forces` train in SI, the leading load at x = 0 at t = 0 and every other
+    /// behind it (x0 = −offset − car·car_length).
+    pub fn forces(&self) -> Result<Vec<MovingLoad>, String> {
+        let VehicleSection::Forces {
+            loads_kN,
+            offsets_m,
+            repeat,
+            car_length_m,
+            offset_y_m,
+            offset_z_m,
+        } = &self.vehicle
+        else {
+            return Err("not a forces train".into());
+        };
+        if loads_kN.is_empty() || loads_kN.len() != offsets_m.len() {
+            return Err(format!(
+                "train.loads_kN and train.offsets_m must be non-empty lists of equal length (got {} and {})",
+                loads_kN.len(),
+                offsets_m.len()
+            ));
+        }
+        if *repeat == 0 || repeat.saturating_mul(loads_kN.len()) > MAX_LOADS {
+            return Err(format!(
+                "train.repeat × {} loads must be between 1 and {MAX_LOADS}, got repeat = {repeat}",
+                loads_kN.len()
+            ));
+        }
+        let car = match car_length_m {
+            Some(l) => {
+                positive("train.car_length_m", *l)?;
+                *l
+            }
+            None if *repeat == 1 => 0.0,
+            None => return Err("train.car_length_m is needed when train.repeat > 1".into()),
+        };
+        for (i, (&f, &o)) in loads_kN.iter().zip(offsets_m).enumerate() {
+            if !f.is_finite() {
+                return Err(format!(
+                    "train.loads_kN[{i}] must be a finite number, got {f}"
+                ));
+            }
+            if !(o.is_finite() && o >= 0.0) {
+                return Err(format!(
+                    "train.offsets_m[{i}] must be zero or positive (behind the leading load), got {o}"
+                ));
+            }
+        }
+        for (n, v) in [
+            ("train.offset_y_m", *offset_y_m),
+            ("train.offset_z_m", *offset_z_m),
+        ] {
+            if !v.is_finite() {
+                return Err(format!("{n} must be a finite number, got {v}"));
+            }
+        }
+        Ok((0..*repeat)
+            .flat_map(|c| {
+                loads_kN
+                    .iter()
+                    .zip(offsets_m)
+                    .map(move |(&f, &o)| MovingLoad {
+                        x0: -o - c as f64 * car,
+                        force: f * 1e3,
+                        ey: *offset_y_m,
+                        ez: *offset_z_m,
+                    })
+            })
+            .collect())
     }
 
     /// The guideway model to run.
@@ -381,6 +504,16 @@ impl Scenario {
                 if !(*wheel_mass_kg >= 0.0 && wheel_mass_kg.is_finite()) {
                     return Err("vehicle.wheel_mass_kg must be zero or positive".into());
                 }
+                for (n, v) in [
+                    ("vehicle.half_width_m", *half_width_m),
+                    ("vehicle.offset_y_m", *offset_y_m),
+                    ("vehicle.target_height_m", *target_height_m),
+                    ("vehicle.body_height_m", *body_height_m),
+                ] {
+                    if !v.is_finite() {
+                        return Err(format!("{n} must be a finite number, got {v}"));
+                    }
+                }
                 Ok(Fig1 {
                     body_mass: body_mass_t * 1e3,
                     jx: jx_t_m2 * 1e3,
@@ -405,7 +538,7 @@ impl Scenario {
     pub fn geometry(&self) -> Geometry {
         match &self.vehicle {
             VehicleSection::Fig1 { geometry, .. } => (*geometry).into(),
-            VehicleSection::MovingForce { .. } => Geometry::Paper,
+            VehicleSection::MovingForce { .. } | VehicleSection::Forces { .. } => Geometry::Paper,
         }
     }
 
@@ -470,6 +603,9 @@ impl Scenario {
         let behind = match &self.vehicle {
             VehicleSection::Fig1 { half_length_m, .. } => 2.0 * half_length_m,
             VehicleSection::MovingForce { .. } => 0.0,
+            VehicleSection::Forces { .. } => self
+                .forces()
+                .map_or(0.0, |f| f.iter().map(|l| -l.x0).fold(0.0, f64::max)),
         };
         (length + behind) / self.run.speed_m_per_s + 0.1
     }

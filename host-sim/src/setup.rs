@@ -9,7 +9,7 @@ use crate::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
 use crate::modal::ModalGuideway;
 use crate::profile::Profile;
 use crate::scenario::{Model, Scenario, VehicleSection};
-use crate::simulation::{Load, Profiles, Settings};
+use crate::simulation::{Load, MovingLoad, Profiles, Settings};
 use crate::vehicle::VehicleModel;
 use maglev_core::irregularity::Direction;
 
@@ -110,11 +110,13 @@ impl Passage {
                 force_kN,
                 offset_y_m,
                 offset_z_m,
-            } => Load::MovingForce {
+            } => Load::Forces(vec![MovingLoad {
+                x0: 0.0,
                 force: force_kN * 1e3,
                 ey: *offset_y_m,
                 ez: *offset_z_m,
-            },
+            }]),
+            VehicleSection::Forces { .. } => Load::Forces(sc.forces()?),
             VehicleSection::Fig1 { .. } => Load::Vehicle(VehicleModel::fig1(
                 &sc.fig1()?,
                 maglev_core::levitation::GRAVITY,
@@ -127,7 +129,7 @@ impl Passage {
             t_end: sc.t_end(),
             controller: match &load {
                 Load::Vehicle(_) => sc.controller_params()?,
-                Load::MovingForce { .. } => maglev_core::Params::paper_wheel(dt),
+                Load::Forces(_) => maglev_core::Params::paper_wheel(dt),
             },
             law: sc.law()?,
             geometry: sc.geometry(),

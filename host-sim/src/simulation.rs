@@ -26,11 +26,24 @@ use nalgebra::DVector;
 
 /// What runs over the guideway.
 pub enum Load {
-    /// One constant force (N, positive downward) at a fixed offset from the beam axis; no
-    /// controller, no irregularity (for verification against closed forms).
-    MovingForce { force: f64, ey: f64, ez: f64 },
+    /// Constant vertical forces moving with the run's speed (a `forces` train, or the single
+    /// moving force of the verification case); no controller, no irregularity. Record
+    /// "wheel 1" is the first load.
+    Forces(Vec<MovingLoad>),
     /// A maglev vehicle with one levitation magnet and one guidance pair per wheel.
     Vehicle(VehicleModel),
+}
+
+/// One constant moving force.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MovingLoad {
+    /// X at t = 0 (m).
+    pub x0: f64,
+    /// Force (N, positive downward).
+    pub force: f64,
+    /// Offset of its point from the beam axis, Y and Z (m).
+    pub ey: f64,
+    pub ez: f64,
 }
 
 /// Rail irregularity profiles r_y(x), r_z(x) (m), shared by every wheel (model.md §3).
@@ -166,33 +179,42 @@ pub fn simulate<G: Guideway>(
         return Err("internal: guideway step differs from the run's step".into());
     }
     match load {
-        Load::MovingForce { force, ey, ez } => {
+        Load::Forces(forces) => {
             let steps = (s.t_end / dt).round() as usize;
+            let first = forces
+                .first()
+                .ok_or("a forces train needs at least one load")?;
             let mut records = Vec::with_capacity(steps + 1);
             records.push(Record {
                 midspan: guideway.section_at(s.midspan_x),
                 wheel1_gap_z: f64::NAN,
                 ..Record::default()
             });
+            let mut loads: Vec<PointLoad> = forces
+                .iter()
+                .map(|f| PointLoad {
+                    x: f.x0,
+                    ey: f.ey,
+                    ez: f.ez,
+                    fy: 0.0,
+                    fz: -f.force,
+                })
+                .collect();
             for n in 1..=steps {
                 let t = n as f64 * dt;
-                let x = s.speed * t;
-                guideway.solve_step(&[PointLoad {
-                    x,
-                    ey: *ey,
-                    ez: *ez,
-                    fy: 0.0,
-                    fz: -force,
-                }]);
+                for (l, f) in loads.iter_mut().zip(forces) {
+                    l.x = f.x0 + s.speed * t;
+                }
+                guideway.solve_step(&loads);
                 guideway.commit();
-                let m = guideway.motion_at(x, *ey, *ez);
+                let m = guideway.motion_at(loads[0].x, first.ey, first.ez);
                 records.push(Record {
                     t,
                     midspan: guideway.section_at(s.midspan_x),
                     wheel1_y: m.y,
                     wheel1_z: m.z,
                     wheel1_gap_z: f64::NAN,
-                    wheel1_force_z: *force,
+                    wheel1_force_z: first.force,
                     iterations: 1,
                     status: Status::default(),
                     collision: false,

@@ -32,8 +32,13 @@ fn run(link: &mut dyn Link, hs: &HilSettings, t_end: &str) -> HilOutcome {
     execute_hil(&scenario(t_end), hs, link, |_| {}).unwrap().0
 }
 
+/// The gap loop on EMS magnets (docs/gap-loop.md), the geometry it exists for.
 fn gap_loop_scenario(t_end: &str) -> scenario::Scenario {
-    let sets = [format!("t_end={t_end}"), "law=gap-loop".to_string()];
+    let sets = [
+        format!("t_end={t_end}"),
+        "law=gap-loop".to_string(),
+        "geometry=ems".to_string(),
+    ];
     scenario::load("paper-4.2", &sets).unwrap()
 }
 
@@ -88,12 +93,13 @@ fn gap_loop_firmware_holds_the_gap_bit_identically_over_the_stream_link() {
     let b = execute_hil(&sc, &hs, &mut link, |_| {}).unwrap().0;
     assert_eq!(bits(&a), bits(&b));
     assert_eq!(a.events, b.events);
-    // Past the paper law's contact (t = 0.075 s) without any event, the gap within 3 mm of h0.
+    // Past the time the paper law on EMS magnets collides (t = 0.075 s) without any event, the
+    // gap within 3 mm of h0.
     assert!(a.events.is_empty(), "{:?}", a.events.first());
     let gaps = a.run.records.iter().map(|r| r.wheel1_gap_z);
     let (lo, hi) = gaps.fold((f64::MAX, f64::MIN), |(l, h), g| (l.min(g), h.max(g)));
     assert!(lo > 0.009 && hi < 0.0135, "{lo} … {hi}");
-    // The paper's law on the same passage differs (and would drift to contact).
+    // The paper's law on the same passage (paper geometry) differs.
     assert_ne!(
         bits(&a)[100..],
         bits(&run(&mut InProc::default(), &hs, "0.25"))[100..]
@@ -178,14 +184,23 @@ fn sensor_faults_raise_events_at_the_documented_times() {
         "{:?}",
         first(&o, Event::FAULT)
     );
-    // After the fault the forces leave the clean run's (the magnets are being switched off).
-    let last = |o: &HilOutcome| o.run.records.last().unwrap().wheel1_force_z;
-    assert!(
-        last(&o) < 0.9 * last(&clean),
-        "{} vs {}",
-        last(&o),
-        last(&clean)
-    );
+    // After the fault the magnets are being switched off: from the step after the fault on,
+    // wheel 1's force falls step by step while the clean run's holds (within 1 %), and it ends
+    // below the clean run's. (The undriven coil decays with τ = G0/(R0·h) ≈ 0.4 s, so 18 ms
+    // take the force down by about 9 %.)
+    let forces = |o: &HilOutcome| -> Vec<f64> {
+        o.run
+            .records
+            .iter()
+            .filter(|r| r.t > 0.023)
+            .map(|r| r.wheel1_force_z)
+            .collect()
+    };
+    let (f, c) = (forces(&o), forces(&clean));
+    assert!(f.len() > 10);
+    assert!(f.windows(2).all(|w| w[1] < w[0]), "{f:?}");
+    assert!(c.iter().all(|&x| (x / c[0] - 1.0).abs() < 0.01), "{c:?}");
+    assert!(f.last().unwrap() < c.last().unwrap());
 }
 
 #[test]

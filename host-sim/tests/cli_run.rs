@@ -1,0 +1,141 @@
+//! `maglev run` and `maglev validate` end to end through the binary: the paper geometry flies,
+//! the EMS geometry under the paper's law collides and is reported as such (collision column,
+//! summary.json, `--strict` exit 3, validate FAIL), and every run writes its profile.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn maglev(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_maglev"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("maglev-cli-run-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn column(dir: &Path, name: &str) -> Vec<f64> {
+    let text = std::fs::read_to_string(dir.join("response.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header.iter().position(|h| *h == name).unwrap();
+    lines
+        .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+        .collect()
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn paper_geometry_flies_and_strict_passes() {
+    let d = out_dir("paper");
+    let o = maglev(&["run", "paper-4.2", "--strict", "--out", d.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let gap = column(&d, "wheel1_gap_z");
+    let h0 = 0.01;
+    assert!(gap.iter().all(|&h| h > 0.5 * h0 && h < 1.5 * h0));
+    assert!(column(&d, "collision").iter().all(|&c| c == 0.0));
+    let s = summary(&d);
+    assert_eq!(s["collision_steps"], 0);
+    let gaps = s["gaps"].as_array().unwrap();
+    assert_eq!(gaps.len(), 12, "4 wheels × (levitation + guidance pair)");
+    let w1 = &gaps[0];
+    assert_eq!(w1["magnet"], "wheel1.z");
+    let min = gap.iter().cloned().fold(f64::INFINITY, f64::min);
+    assert_eq!(w1["min_m"].as_f64().unwrap(), min);
+}
+
+#[test]
+fn ems_geometry_under_the_papers_law_collides_and_strict_exits_3() {
+    let d = out_dir("ems");
+    let o = maglev(&[
+        "run",
+        "paper-4.2",
+        "--set",
+        "geometry=ems",
+        "--strict",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(3));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("collision"), "{err}");
+    let gap = column(&d, "wheel1_gap_z");
+    let coll = column(&d, "collision");
+    // The collision column marks (at least) every step whose wheel-1 gap is ≤ 0.
+    assert!(gap.iter().zip(&coll).all(|(&h, &c)| h > 0.0 || c == 1.0));
+    let n = coll.iter().filter(|&&c| c == 1.0).count() as u64;
+    assert!(n > 0);
+    assert_eq!(summary(&d)["collision_steps"].as_u64().unwrap(), n);
+}
+
+#[test]
+fn profile_csv_covers_every_wheel_position() {
+    let d = out_dir("profile");
+    let o = maglev(&[
+        "run",
+        "paper-4.2",
+        "--set",
+        "model=rigid",
+        "--set",
+        "t_end=0.05",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(d.join("profile.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("x,r_y,r_z"));
+    let xs: Vec<f64> = lines
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    // Wheels at x0 = 0 and −15 m, 100 m/s, Δt = 1 ms, 50 steps: x0 + 0.1·n for n = 0..=50.
+    for x0 in [0.0, -15.0] {
+        for n in 0..=50 {
+            let x = x0 + 100.0 * (n as f64 * 1e-3);
+            assert!(xs.iter().any(|&p| p == x), "x = {x} missing");
+        }
+    }
+    assert!(xs.windows(2).all(|w| w[0] < w[1]), "sorted, no duplicates");
+    assert_eq!(xs.len(), 2 * 51);
+}
+
+#[test]
+fn validate_fails_under_the_ems_geometry() {
+    let d = out_dir("validate-ems");
+    let o = maglev(&[
+        "validate",
+        "--set",
+        "geometry=ems",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("validation failed"), "{err}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("validation.json")).unwrap()).unwrap();
+    assert_eq!(v["pass"], false);
+    // Every case fails on its collisions, not on a side issue.
+    for c in v["comparisons"].as_array().unwrap() {
+        assert!(c["collision_steps"].as_u64().unwrap() > 0, "{c}");
+        assert_eq!(c["pass"], false);
+    }
+    // A key the cases set themselves is refused with a one-line error.
+    let o = maglev(&[
+        "validate",
+        "--set",
+        "speed=50",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("speed") && err.lines().count() == 1, "{err}");
+}
