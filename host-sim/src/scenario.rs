@@ -362,7 +362,7 @@ impl Scenario {
             }
         }
         let steps = self.t_end() / self.run.dt_s;
-        if !(steps <= MAX_STEPS) {
+        if steps.is_nan() || steps > MAX_STEPS {
             return Err(format!(
                 "run.t_end_s / run.dt_s = {steps:.3e} steps exceeds the limit of {MAX_STEPS:.0e} steps"
             ));
