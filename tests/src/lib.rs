@@ -3,4 +3,5 @@
 //! written straight from `shared/docs/model.md`, never from the code under test.
 
 pub mod control_reference;
+pub mod rigid_vehicle_reference;
 pub mod traces;
