@@ -99,7 +99,7 @@ fn profile_csv_covers_every_wheel_position() {
     for x0 in [0.0, -15.0] {
         for n in 0..=50 {
             let x = x0 + 100.0 * (n as f64 * 1e-3);
-            assert!(xs.iter().any(|&p| p == x), "x = {x} missing");
+            assert!(xs.contains(&x), "x = {x} missing");
         }
     }
     assert!(xs.windows(2).all(|w| w[0] < w[1]), "sorted, no duplicates");
