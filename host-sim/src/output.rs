@@ -3,10 +3,12 @@
 //! The SVG writer is a few dozen lines on purpose: polylines with axes, ticks and a legend are
 //! all the figures need, and a plotting crate would double the clean build time.
 
+pub mod staging;
+
 use crate::simulation::{GapRanges, Outcome, Record};
 use serde::Serialize;
+pub use staging::Staging;
 use std::fmt::Write as _;
-use std::path::Path;
 
 /// Reads one value from a record.
 pub type Getter = fn(&Record) -> f64;
@@ -333,14 +335,11 @@ pub fn profile_csv(profile: &[[f64; 3]]) -> String {
     s
 }
 
-/// Writes `response.csv`, `summary.json`, `profile.csv` and one SVG per history into `dir`.
-pub fn write_run(dir: &Path, outcome: &Outcome, summary: &Summary) -> Result<(), String> {
+/// Writes `response.csv`, `summary.json`, `profile.csv` and one SVG per history into the
+/// run's staging directory.
+pub fn write_run(dir: &Staging, outcome: &Outcome, summary: &Summary) -> Result<(), String> {
     let records = &outcome.records;
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let put = |name: &str, text: &str| {
-        let p = dir.join(name);
-        std::fs::write(&p, text).map_err(|e| format!("cannot write {}: {e}", p.display()))
-    };
+    let put = |name: &str, text: &str| dir.put(name, text);
     put("response.csv", &response_csv(records))?;
     put("profile.csv", &profile_csv(&outcome.profile))?;
     put(

@@ -6,7 +6,7 @@ use crate::hil::compare::{compare, Comparison};
 use crate::hil::coupling::HilOutcome;
 use crate::hil::link::{InProc, Link, LinkFaults, LinkStats, StreamLink};
 use crate::hil::{execute_hil, HilSettings, HIL_KEYS};
-use crate::output::{write_run, Summary};
+use crate::output::{write_run, Staging, Summary};
 use crate::scenario;
 use maglev_firmware_sim::supervision::Event;
 use serde::Serialize;
@@ -322,16 +322,15 @@ pub fn run(args: Args) -> Result<(), String> {
         compare_before_fault: cmp_before,
         run,
     };
-    write_run(&args.out, &outcome.run, &summary.run)?;
-    let put = |name: &str, text: String| {
-        let p = args.out.join(name);
-        std::fs::write(&p, text).map_err(|e| format!("cannot write {}: {e}", p.display()))
-    };
+    let out = Staging::new(&args.out)?;
+    write_run(&out, &outcome.run, &summary.run)?;
+    let put = |name: &str, text: String| out.put(name, &text);
     put(
         "summary.json",
         serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())? + "\n",
     )?;
     put("events.csv", events_csv(&outcome))?;
+    out.finish()?;
     crate::cli::run::warn(&outcome.run);
     eprintln!(
         "maglev: hil ({}) {} steps, {:.3} s simulated in {:.2} s wall; {} exchanges, {:.0}/s in the link \

@@ -1,7 +1,7 @@
 //! `maglev run SCENARIO [--set key=value]... [--out DIR] [--strict]`: one passage over an FE,
 //! modal or rigid guideway.
 
-use crate::output::{gap_ranges, write_run, Summary};
+use crate::output::{gap_ranges, write_run, Staging, Summary};
 use crate::scenario::{self, Scenario};
 use crate::setup::Passage;
 use crate::simulation::{simulate, Outcome};
@@ -86,7 +86,9 @@ pub fn run(args: Args) -> Result<bool, String> {
     })?;
     warn(&outcome);
     let summary = Summary::new(&args.scenario, &sc.run.model, &outcome, wall);
-    write_run(&args.out, &outcome, &summary)?;
+    let out = Staging::new(&args.out)?;
+    write_run(&out, &outcome, &summary)?;
+    out.finish()?;
     eprintln!(
         "maglev: {} steps, {:.3} s simulated in {:.2} s wall; wrote {}",
         summary.steps,
