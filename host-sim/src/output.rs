@@ -5,6 +5,7 @@
 
 pub mod staging;
 
+use crate::scenario::Scenario;
 use crate::simulation::{GapRanges, Outcome, Record};
 use serde::Serialize;
 pub use staging::Staging;
@@ -70,6 +71,9 @@ pub fn peak(records: &[Record], get: Getter) -> Option<Peak> {
 pub struct Summary {
     pub scenario: String,
     pub model: String,
+    /// The resolved case: every scenario value the run used, after the `--set` overrides
+    /// (in the scenario file's units).
+    pub case: Scenario,
     pub simulated_seconds: f64,
     pub wall_seconds: f64,
     pub real_time_factor: f64,
@@ -112,7 +116,7 @@ pub fn gap_ranges(ranges: &GapRanges) -> Vec<GapRange> {
 }
 
 impl Summary {
-    pub fn new(scenario: &str, model: &str, outcome: &Outcome, wall: f64) -> Self {
+    pub fn new(scenario: &str, case: &Scenario, outcome: &Outcome, wall: f64) -> Self {
         let records = &outcome.records;
         let steps = records.len().saturating_sub(1);
         let simulated = records.last().map_or(0.0, |r| r.t);
@@ -129,7 +133,12 @@ impl Summary {
             .collect();
         Summary {
             scenario: scenario.to_string(),
-            model: model.to_string(),
+            model: case.run.model.clone(),
+            case: {
+                let mut c = case.clone();
+                c.run.t_end_s = Some(case.t_end());
+                c
+            },
             simulated_seconds: simulated,
             wall_seconds: wall,
             real_time_factor: if wall > 0.0 {

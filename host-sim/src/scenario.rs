@@ -7,7 +7,7 @@ use crate::vehicle::Fig1;
 use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
 use maglev_core::{Interpolation, Params, Scheme};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Bundled scenarios: (name, TOML text).
 pub const BUNDLED: [(&str, &str); 3] = [
@@ -42,7 +42,7 @@ pub const SHORT_KEYS: [(&str, &str); 12] = [
     ("geometry", "vehicle.geometry"),
 ];
 
-#[derive(Deserialize, Debug, Clone)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct RunSection {
     pub model: String,
@@ -71,7 +71,7 @@ fn default_max_iterations() -> u32 {
     50
 }
 
-#[derive(Deserialize, Debug, Clone)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct BridgeSection {
@@ -88,7 +88,7 @@ pub struct BridgeSection {
     pub polar_mass_t_m2_per_m: Option<f64>,
 }
 
-#[derive(Deserialize, Debug, Clone)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields, tag = "kind", rename_all = "kebab-case")]
 #[allow(non_snake_case)]
 pub enum VehicleSection {
@@ -141,7 +141,7 @@ fn one() -> usize {
 pub const MAX_LOADS: usize = 100_000;
 
 /// `vehicle.geometry`: `paper` (Eq. 2 read literally, the default) or `ems`.
-#[derive(Deserialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum GeometryKey {
     #[default]
@@ -158,7 +158,7 @@ impl From<GeometryKey> for Geometry {
     }
 }
 
-#[derive(Deserialize, Debug, Clone)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct ControllerSection {
@@ -186,7 +186,7 @@ fn default_scheme() -> String {
     "paper".into()
 }
 
-#[derive(Deserialize, Debug, Clone)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct IrregularitySection {
     pub enabled: bool,
@@ -194,7 +194,7 @@ pub struct IrregularitySection {
 }
 
 /// A scenario as written (units in the key names).
-#[derive(Deserialize, Debug, Clone)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
     pub run: RunSection,

@@ -304,7 +304,7 @@ pub fn run(args: Args) -> Result<(), String> {
     } else {
         (None, None)
     };
-    let run = Summary::new(&args.scenario, &sc.run.model, &outcome.run, wall);
+    let run = Summary::new(&args.scenario, &sc, &outcome.run, wall);
     let summary = HilSummary {
         firmware: format!("{:?}", args.firmware).to_lowercase(),
         qemu_link: (args.firmware == FirmwareMode::Qemu)

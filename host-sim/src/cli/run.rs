@@ -85,7 +85,7 @@ pub fn run(args: Args) -> Result<bool, String> {
         }
     })?;
     warn(&outcome);
-    let summary = Summary::new(&args.scenario, &sc.run.model, &outcome, wall);
+    let summary = Summary::new(&args.scenario, &sc, &outcome, wall);
     let out = Staging::new(&args.out)?;
     write_run(&out, &outcome, &summary)?;
     out.finish()?;
