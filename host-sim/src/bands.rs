@@ -75,6 +75,10 @@ pub enum BandsError {
     },
     #[error("the CSV has {rows} data rows; a band analysis needs at least 2")]
     TooFewRows { rows: usize },
+    #[error("sample {index} is {value}: every sample must be a finite number")]
+    BadSample { index: usize, value: f64 },
+    #[error("the sample spacing dt = {dt} s must be a positive finite number")]
+    BadStep { dt: f64 },
     #[error("reading the CSV failed: {0}")]
     Csv(String),
     #[error("column \"t\" must increase: t runs from {first} s to {last} s over {rows} rows")]
@@ -299,6 +303,12 @@ pub struct Settings {
 
 /// Band levels of `samples` (spacing `dt` s) over [`band_range`], lowest band first.
 pub fn analyse(samples: &[f64], dt: f64, s: &Settings) -> Result<Vec<BandLevel>, BandsError> {
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(BandsError::BadStep { dt });
+    }
+    if let Some((index, &value)) = samples.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(BandsError::BadSample { index, value });
+    }
     let n = samples.len();
     let record = n as f64 * dt;
     let bands = band_range(n, dt).ok_or(BandsError::TooShort { n, dt, record })?;
@@ -367,7 +377,8 @@ fn converted_spectrum(
         let omega = std::f64::consts::TAU * k as f64 * df;
         *v *= Complex::new(0.0, omega).powi(p);
     }
-    if n % 2 == 0 {
+    // For even N the last of the N/2 + 1 outputs is the Nyquist bin.
+    if 2 * (spectrum.len() - 1) == n {
         spectrum[n / 2] = Complex::new(0.0, 0.0);
     }
     spectrum

@@ -445,7 +445,16 @@ fn reads_a_uniform_history_and_rejects_bad_input() {
         .unwrap_err();
         assert!(matches!(e, BandsError::BadWindow { .. }), "{e}");
     }
-    for e in [missing, short] {
+    let nan = analyse(&[0.0, f64::NAN, 0.0], 0.001, &accel(WHOLE)).unwrap_err();
+    assert!(
+        matches!(nan, BandsError::BadSample { index: 1, .. }),
+        "{nan}"
+    );
+    for dt in [0.0, -1.0, f64::INFINITY] {
+        let e = analyse(&vec![0.0; 5000], dt, &accel(WHOLE)).unwrap_err();
+        assert!(matches!(e, BandsError::BadStep { .. }), "{e}");
+    }
+    for e in [missing, short, nan] {
         assert!(!e.to_string().contains('\n'));
     }
 }
