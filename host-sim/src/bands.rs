@@ -18,7 +18,9 @@
 //! * **Quantity conversion** (exact for the DFT's periodic extension of the record): a level of
 //!   quantity order `q_out` from a column of order `q_in` (displacement 0, velocity 1,
 //!   acceleration 2) uses `Y_k = (i·2π f_k)^(q_out − q_in) · V_k`. The DC bin is dropped (it is
-//!   in no band, and has no finite integral).
+//!   in no band, and has no finite integral). A record whose end does not join its start has
+//!   a jump in that extension, which differentiation amplifies across the upper bands: analyse
+//!   an acceleration column where there is one (docs/bands.md, item 2).
 //! * **Bins.** Bin `k` (`1 ≤ k ≤ ⌈N/2⌉ − 1`, i.e. neither DC nor, for even `N`, Nyquist) covers
 //!   `[(k − ½)Δf, (k + ½)Δf]` and carries the one-sided mean square `P_k = 2|Y_k|²/N²`;
 //!   `Σ_k P_k` is the record's mean square without its mean and Nyquist term (Parseval).
