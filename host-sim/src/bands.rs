@@ -61,7 +61,7 @@ pub const REF_VELOCITY: f64 = 1e-9;
 /// At this jitter the phase error is at most π·10⁻³ rad at Nyquist: negligible in every band.
 pub const UNIFORM_TOLERANCE: f64 = 1e-3;
 
-/// Half the band's width in tenths of a decade: edges are `f_m·10^(±1/20)`.
+/// The band edges lie 1/20 decade either side of `f_m`: `f_m·10^(±1/20)`.
 const HALF_BAND_EXPONENT: f64 = 1.0 / 20.0;
 
 /// Errors of the band analysis, each one line naming the column or the limit.
