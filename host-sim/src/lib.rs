@@ -1,4 +1,5 @@
 //! Host-side simulators: the guideway (FE and modal reference), vehicles, coupling, CLI.
+pub mod bands;
 pub mod cli;
 pub mod fe;
 pub mod guideway;

@@ -31,6 +31,8 @@ enum Command {
     /// A passage with the levitation firmware as the controller (in-process, host process
     /// or QEMU), in lockstep; --compare reports the difference to the ideal run.
     Hil(cli::hil::Args),
+    /// IEC 61260-1 one-third-octave band levels of a CSV time history (docs/bands.md).
+    Bands(cli::bands::Args),
 }
 
 fn main() {
@@ -47,6 +49,7 @@ fn main() {
         Command::Validate(a) => cli::validate::run_cmd(a),
         Command::Stability(a) => cli::stability::run(a),
         Command::Hil(a) => cli::hil::run(a),
+        Command::Bands(a) => cli::bands::run(a),
     };
     if let Err(e) = result {
         eprintln!("maglev: error: {e}");

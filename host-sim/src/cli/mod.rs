@@ -1,5 +1,6 @@
 //! One module per `maglev` subcommand. Each exposes `Args` (clap) and `run(Args) -> Result<(), String>`;
 //! errors are one line naming what is wrong.
+pub mod bands;
 pub mod control;
 pub mod hil;
 pub mod irregularity;
