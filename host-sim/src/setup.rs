@@ -168,3 +168,16 @@ fn profiles_for(sc: &Scenario, load: &Load) -> Result<Profiles, String> {
         z: Box::new(move |x| z.at(x)),
     })
 }
+
+/// Runs scenario `sc` with the core's controllers; `progress` gets the fraction done. Returns
+/// the outcome and the wall seconds of the time loop.
+pub fn run_scenario(
+    sc: &Scenario,
+    progress: impl FnMut(f64),
+) -> Result<(crate::simulation::Outcome, f64), String> {
+    let mut p = Passage::new(sc)?;
+    let start = std::time::Instant::now();
+    let outcome =
+        crate::simulation::simulate(&mut p.guideway, &p.load, &p.profiles, &p.settings, progress)?;
+    Ok((outcome, start.elapsed().as_secs_f64()))
+}

@@ -106,7 +106,7 @@ fn gap_loop_firmware_holds_the_gap_bit_identically_over_the_stream_link() {
     );
     // Against the ideal core run of the same law: close (the ideal samples the outer loop once
     // per 1 ms host step, the firmware once per 100 µs tick; docs/hil.md).
-    let ideal = maglev_host_sim::cli::run::execute(&sc, |_| {}).unwrap().0;
+    let ideal = maglev_host_sim::setup::run_scenario(&sc, |_| {}).unwrap().0;
     let c = maglev_host_sim::hil::compare::compare(&a.run.records, &ideal.records).unwrap();
     assert!(c.wheel1_gap_z.relative < 0.03, "{c:?}");
     assert!(c.midspan_z.relative < 0.01, "{c:?}");

@@ -1,13 +1,13 @@
 //! `maglev hil SCENARIO --firmware inproc|process|qemu [--set key=value]... [--out DIR]
 //! [--compare]`: a passage with the levitation firmware as the controller.
 
-use crate::cli::run::execute;
 use crate::hil::compare::{compare, Comparison};
 use crate::hil::coupling::HilOutcome;
 use crate::hil::link::{InProc, Link, LinkFaults, LinkStats, StreamLink};
 use crate::hil::{execute_hil, HilSettings, HIL_KEYS};
 use crate::output::{write_run, Staging, Summary};
 use crate::scenario;
+use crate::setup::run_scenario;
 use maglev_firmware_sim::supervision::Event;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -291,7 +291,7 @@ pub fn run(args: Args) -> Result<(), String> {
     drop(link);
     let (events, first_fault_s) = event_counts(&outcome);
     let (cmp, cmp_before) = if args.compare {
-        let (ideal, _) = execute(&sc, |_| {})?;
+        let (ideal, _) = run_scenario(&sc, |_| {})?;
         let all = compare(&outcome.run.records, &ideal.records)?;
         let before = match first_fault_s {
             Some(tf) => {

@@ -2,9 +2,9 @@
 //! modal or rigid guideway.
 
 use crate::output::{gap_ranges, write_run, Staging, Summary};
-use crate::scenario::{self, Scenario};
-use crate::setup::Passage;
-use crate::simulation::{simulate, Outcome};
+use crate::scenario;
+use crate::setup::run_scenario;
+use crate::simulation::Outcome;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -22,14 +22,6 @@ pub struct Args {
     /// Exit with status 3 when any step collides or any magnet's gap leaves (0, 2·h0).
     #[arg(long)]
     pub strict: bool,
-}
-
-/// Runs a scenario; `progress` gets the fraction done. Returns the outcome and wall seconds.
-pub fn execute(sc: &Scenario, progress: impl FnMut(f64)) -> Result<(Outcome, f64), String> {
-    let mut p = Passage::new(sc)?;
-    let start = Instant::now();
-    let outcome = simulate(&mut p.guideway, &p.load, &p.profiles, &p.settings, progress)?;
-    Ok((outcome, start.elapsed().as_secs_f64()))
 }
 
 /// What `--strict` refuses: a collision, or a gap outside `(0, 2·h0)`. `None` when the run
@@ -78,7 +70,7 @@ pub fn warn(outcome: &Outcome) {
 pub fn run(args: Args) -> Result<bool, String> {
     let sc = scenario::load(&args.scenario, &args.sets)?;
     let mut last = Instant::now();
-    let (outcome, wall) = execute(&sc, |f| {
+    let (outcome, wall) = run_scenario(&sc, |f| {
         if last.elapsed().as_secs_f64() > 2.0 {
             eprintln!("maglev: {:.0} % …", 100.0 * f);
             last = Instant::now();

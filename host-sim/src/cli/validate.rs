@@ -7,9 +7,9 @@
 //! below the controller's 0.16 s period) and 160 modes.
 
 use crate::cli::control::SchemeKind;
-use crate::cli::run::execute;
 use crate::output::{gap_ranges, svg_plot, GapRange, Series};
 use crate::scenario::{self, Scenario};
+use crate::setup::run_scenario;
 use crate::simulation::Record;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -97,7 +97,7 @@ fn run(case_sets: &[String], common: &Common) -> Result<Run, String> {
     sets.extend_from_slice(case_sets);
     sets.push(format!("scheme={}", scheme_name(common.scheme)));
     let sc: Scenario = scenario::load("paper-4.2", &sets)?;
-    let (o, wall) = execute(&sc, |_| {})?;
+    let (o, wall) = run_scenario(&sc, |_| {})?;
     if o.unconverged_steps > 0 {
         return Err(format!(
             "{} steps did not converge in {sets:?}",
