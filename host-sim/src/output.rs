@@ -133,7 +133,7 @@ impl Summary {
             .collect();
         Summary {
             scenario: scenario.to_string(),
-            model: case.run.model.clone(),
+            model: format!("{:?}", case.run.model).to_lowercase(),
             case: {
                 let mut c = case.clone();
                 c.run.t_end_s = Some(case.t_end());

@@ -45,7 +45,7 @@ pub const SHORT_KEYS: [(&str, &str); 12] = [
 #[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct RunSection {
-    pub model: String,
+    pub model: Model,
     pub speed_m_per_s: f64,
     pub dt_s: f64,
     #[serde(default = "default_elements")]
@@ -207,7 +207,8 @@ pub struct Scenario {
 }
 
 /// Which guideway model runs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
 pub enum Model {
     Fe,
     Modal,
@@ -442,17 +443,9 @@ impl Scenario {
 
     /// The guideway model to run.
     pub fn model(&self) -> Result<Model, String> {
-        match self.run.model.as_str() {
-            "fe" => Ok(Model::Fe),
-            "modal" => Ok(Model::Modal),
-            "rigid" => Ok(Model::Rigid),
-            other => Err(format!(
-                "run.model must be `fe`, `modal` or `rigid`, got `{other}`"
-            )),
-        }
+        Ok(self.run.model)
     }
 
-    /// The bridge in SI.
     pub fn bridge(&self) -> Bridge {
         let b = &self.bridge;
         Bridge {
