@@ -7,6 +7,7 @@ pub mod hil;
 pub mod modal;
 pub mod newmark;
 pub mod output;
+pub mod probes;
 pub mod profile;
 pub mod scenario;
 pub mod setup;

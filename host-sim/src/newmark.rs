@@ -32,6 +32,11 @@ impl Newmark {
         &self.committed.d
     }
 
+    /// Committed acceleration at t.
+    pub fn a(&self) -> &DVector<f64> {
+        &self.committed.a
+    }
+
     /// Trial displacement at t + dt (valid after [`Newmark::solve`]).
     pub fn u1(&self) -> &DVector<f64> {
         &self.trial.d

@@ -5,6 +5,7 @@
 
 pub mod staging;
 
+use crate::probes::CsvRecorder;
 use crate::scenario::Scenario;
 use crate::simulation::{GapRanges, Outcome, Record};
 use serde::Serialize;
@@ -14,7 +15,7 @@ use std::fmt::Write as _;
 /// Reads one value from a record.
 pub type Getter = fn(&Record) -> f64;
 
-/// The CSV columns, in order, with how to read each from a record.
+/// The in-memory histories (summary peaks and plots), with how to read each from a record.
 pub const COLUMNS: [(&str, Getter); 8] = [
     ("t", |r| r.t),
     ("midspan_y", |r| r.midspan.y),
@@ -25,27 +26,6 @@ pub const COLUMNS: [(&str, Getter); 8] = [
     ("wheel1_gap_z", |r| r.wheel1_gap_z),
     ("wheel1_force_z", |r| r.wheel1_force_z),
 ];
-
-/// `response.csv` text: SI units, shortest round-trip decimals; not-applicable values empty.
-pub fn response_csv(records: &[Record]) -> String {
-    let mut s = String::with_capacity(records.len() * 160);
-    let names: Vec<&str> = COLUMNS.iter().map(|(n, _)| *n).collect();
-    s.push_str(&names.join(","));
-    s.push_str(",iterations,collision\n");
-    for r in records {
-        for (i, (_, get)) in COLUMNS.iter().enumerate() {
-            if i > 0 {
-                s.push(',');
-            }
-            let v = get(r);
-            if v.is_finite() {
-                let _ = write!(s, "{v}");
-            }
-        }
-        let _ = writeln!(s, ",{},{}", r.iterations, u8::from(r.collision));
-    }
-    s
-}
 
 /// The largest magnitude of a history, signed, with its time.
 #[derive(Serialize, Debug, Clone, Copy, PartialEq)]
@@ -344,12 +324,21 @@ pub fn profile_csv(profile: &[[f64; 3]]) -> String {
     s
 }
 
-/// Writes `response.csv`, `summary.json`, `profile.csv` and one SVG per history into the
-/// run's staging directory.
+/// Streams `response.csv` into the run's staging directory as the run goes.
+pub fn response_recorder(
+    dir: &Staging,
+    probes: crate::probes::Probes,
+) -> Result<CsvRecorder<std::io::BufWriter<std::fs::File>>, String> {
+    let p = dir.path("response.csv");
+    let f = std::fs::File::create(&p).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+    CsvRecorder::new(probes, std::io::BufWriter::new(f))
+}
+
+/// Writes `summary.json`, `profile.csv` and one SVG per history into the run's staging
+/// directory (`response.csv` is streamed by [`response_recorder`]).
 pub fn write_run(dir: &Staging, outcome: &Outcome, summary: &Summary) -> Result<(), String> {
     let records = &outcome.records;
     let put = |name: &str, text: &str| dir.put(name, text);
-    put("response.csv", &response_csv(records))?;
     put("profile.csv", &profile_csv(&outcome.profile))?;
     put(
         "summary.json",

@@ -204,6 +204,15 @@ pub struct Scenario {
     pub vehicle: VehicleSection,
     pub controller: Option<ControllerSection>,
     pub irregularity: Option<IrregularitySection>,
+    pub output: Option<OutputSection>,
+}
+
+/// `[output]`: what a run records.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSection {
+    /// Probe names (`crate::probes`), one response.csv column each, in this order.
+    pub probes: Vec<String>,
 }
 
 /// Which guideway model runs.

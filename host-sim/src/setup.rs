@@ -7,6 +7,7 @@
 use crate::fe::FeGuideway;
 use crate::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
 use crate::modal::ModalGuideway;
+use crate::probes::{Extent, Probes, Recorder};
 use crate::profile::Profile;
 use crate::scenario::{Model, Scenario, VehicleSection};
 use crate::simulation::{Load, MovingLoad, Profiles, Settings};
@@ -136,6 +137,15 @@ impl Passage {
             tolerance: sc.run.tolerance_m,
             max_iterations: sc.run.max_iterations,
             midspan_x: bridge.spans[0] / 2.0,
+            midspans: bridge
+                .spans
+                .iter()
+                .scan(0.0, |x0, &l| {
+                    let mid = *x0 + l / 2.0;
+                    *x0 += l;
+                    Some(mid)
+                })
+                .collect(),
         };
         let guideway = AnyGuideway::new(sc.model()?, &bridge, sc)?;
         Ok(Passage {
@@ -173,11 +183,44 @@ fn profiles_for(sc: &Scenario, load: &Load) -> Result<Profiles, String> {
 /// the outcome and the wall seconds of the time loop.
 pub fn run_scenario(
     sc: &Scenario,
+    rec: &mut dyn Recorder,
     progress: impl FnMut(f64),
 ) -> Result<(crate::simulation::Outcome, f64), String> {
     let mut p = Passage::new(sc)?;
     let start = std::time::Instant::now();
-    let outcome =
-        crate::simulation::simulate(&mut p.guideway, &p.load, &p.profiles, &p.settings, progress)?;
+    let outcome = crate::simulation::simulate(
+        &mut p.guideway,
+        &p.load,
+        &p.profiles,
+        &p.settings,
+        rec,
+        progress,
+    )?;
     Ok((outcome, start.elapsed().as_secs_f64()))
+}
+
+impl Passage {
+    /// What the case offers to probe.
+    pub fn extent(&self) -> Extent {
+        match &self.load {
+            Load::Vehicle(v) => Extent {
+                spans: self.settings.midspans.len(),
+                wheels: v.wheels.len(),
+                cars: v.cars.len(),
+                magnets: true,
+            },
+            Load::Forces(f) => Extent {
+                spans: self.settings.midspans.len(),
+                wheels: f.len(),
+                cars: 0,
+                magnets: false,
+            },
+        }
+    }
+}
+
+/// The scenario's probes (`[output] probes`, else the default columns), checked against it.
+pub fn probes(sc: &Scenario) -> Result<Probes, String> {
+    let p = Passage::new(sc)?;
+    Probes::new(sc.output.as_ref().map(|o| o.probes.as_slice()), &p.extent())
 }

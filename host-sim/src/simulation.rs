@@ -18,6 +18,7 @@ pub mod magnets;
 
 use crate::guideway::{Guideway, PointLoad, SectionMotion};
 use crate::newmark::Newmark;
+use crate::probes::{Recorder, StepView, Wheels};
 use crate::vehicle::VehicleModel;
 use maglev_core::gap::{self, Geometry};
 use maglev_core::gap_control::GapParams;
@@ -88,6 +89,8 @@ pub struct Settings {
     pub max_iterations: u32,
     /// X of the section reported as "midspan".
     pub midspan_x: f64,
+    /// X of the middle of every span (the `span{K}.midspan` probes).
+    pub midspans: Vec<f64>,
 }
 
 /// One recorded step (SI; displacements positive along the axes).
@@ -172,6 +175,7 @@ pub fn simulate<G: Guideway>(
     load: &Load,
     profiles: &Profiles,
     s: &Settings,
+    rec: &mut dyn Recorder,
     mut progress: impl FnMut(f64),
 ) -> Result<Outcome, String> {
     let dt = s.dt;
@@ -200,13 +204,32 @@ pub fn simulate<G: Guideway>(
                     fz: -f.force,
                 })
                 .collect();
+            let magnitudes: Vec<f64> = forces.iter().map(|f| f.force).collect();
+            let mut points: Vec<(f64, f64, f64)> =
+                loads.iter().map(|l| (l.x, l.ey, l.ez)).collect();
+            let mut record = |t: f64, g: &G, points: &[(f64, f64, f64)], iterations| {
+                rec.record(&StepView {
+                    t,
+                    guideway: g,
+                    midspans: &s.midspans,
+                    wheels: Wheels::Forces {
+                        points,
+                        forces: &magnitudes,
+                    },
+                    iterations,
+                    collision: false,
+                })
+            };
+            record(0.0, guideway, &points, 0)?;
             for n in 1..=steps {
                 let t = n as f64 * dt;
-                for (l, f) in loads.iter_mut().zip(forces) {
+                for ((l, f), p) in loads.iter_mut().zip(forces).zip(points.iter_mut()) {
                     l.x = f.x0 + s.speed * t;
+                    p.0 = l.x;
                 }
                 guideway.solve_step(&loads);
                 guideway.commit();
+                record(t, guideway, &points, 1)?;
                 let m = guideway.motion_at(loads[0].x, first.ey, first.ez);
                 records.push(Record {
                     t,
@@ -234,7 +257,7 @@ pub fn simulate<G: Guideway>(
         Load::Vehicle(v) => {
             let gaps0 = initial_gaps(v, profiles, s.controller.h0);
             let mut magnets = magnets::CoreMagnets::new(v, &gaps0, s)?;
-            couple(guideway, v, profiles, s, &mut magnets, progress)
+            couple(guideway, v, profiles, s, &mut magnets, rec, progress)
         }
     }
 }
@@ -246,6 +269,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     profiles: &Profiles,
     s: &Settings,
     magnets: &mut M,
+    rec: &mut dyn Recorder,
     mut progress: impl FnMut(f64),
 ) -> Result<Outcome, String> {
     let dt = s.dt;
@@ -274,6 +298,24 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     });
     let mut unconverged = 0;
     let mut veh = Newmark::new(v.m.clone(), v.c.clone(), v.k.clone(), dt)?;
+    let dofs: Vec<(usize, usize)> = v.wheels.iter().map(|w| (w.dof_y, w.dof_z)).collect();
+    let mut forces_now: Vec<(f64, f64)> = v.p0.iter().map(|&p0| (p0, 0.0)).collect();
+    rec.record(&StepView {
+        t: 0.0,
+        guideway: &*guideway,
+        midspans: &s.midspans,
+        wheels: Wheels::Vehicle {
+            u: veh.u().as_slice(),
+            a: veh.a().as_slice(),
+            dofs: &dofs,
+            gaps: &gaps_prev,
+            forces: &forces_now,
+            h0,
+            body_z: &v.cars,
+        },
+        iterations: 0,
+        collision: false,
+    })?;
     let mut f = DVector::zeros(v.m.nrows());
     let mut loads = vec![PointLoad::default(); nw];
     let mut gaps_used = vec![(0.0, 0.0); nw];
@@ -348,6 +390,23 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             }
         }
         collision_steps += usize::from(collision);
+        forces_now.copy_from_slice(&forces);
+        rec.record(&StepView {
+            t,
+            guideway: &*guideway,
+            midspans: &s.midspans,
+            wheels: Wheels::Vehicle {
+                u: veh.u().as_slice(),
+                a: veh.a().as_slice(),
+                dofs: &dofs,
+                gaps: &gaps_used,
+                forces: &forces_now,
+                h0,
+                body_z: &v.cars,
+            },
+            iterations,
+            collision,
+        })?;
         let w1 = &v.wheels[0];
         records.push(Record {
             t,

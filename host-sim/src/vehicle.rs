@@ -74,6 +74,8 @@ pub struct VehicleModel {
     pub wheels: Vec<Wheel>,
     /// Static load per wheel (N): the share of the weight each magnet carries.
     pub p0: Vec<f64>,
+    /// The body heave DOF of each car (the `car{N}.body` probes).
+    pub cars: Vec<usize>,
 }
 
 /// Body DOFs: v, w, θx, θy, θz (u along X carries no force and is left out).
@@ -171,6 +173,7 @@ impl VehicleModel {
             k,
             wheels,
             p0,
+            cars: vec![BODY_W],
         }
     }
 }

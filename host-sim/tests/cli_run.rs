@@ -139,3 +139,55 @@ fn validate_fails_under_the_ems_geometry() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("speed") && err.lines().count() == 1, "{err}");
 }
+
+#[test]
+fn probes_name_their_columns_and_body_acceleration_is_newmarks() {
+    let d = out_dir("probes");
+    let o = maglev(&[
+        "run",
+        "paper-4.2",
+        "--set",
+        r#"output.probes=["car1.body.z","car1.body.az","span1.midspan.z","wheel2.gap_z"]"#,
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let header = std::fs::read_to_string(d.join("response.csv")).unwrap();
+    assert_eq!(
+        header.lines().next().unwrap(),
+        "t,car1.body.z,car1.body.az,span1.midspan.z,wheel2.gap_z,iterations,collision"
+    );
+    // Average-acceleration Newmark ties displacement and acceleration exactly:
+    // (u₊ − 2u + u₋)/Δt² = (a₊ + 2a + a₋)/4. An independent check that `az` is the body's
+    // acceleration, not a relabelled column.
+    let (z, az) = (column(&d, "car1.body.z"), column(&d, "car1.body.az"));
+    let dt = 1e-3;
+    let peak = az.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    assert!(peak > 1e-3, "the body moves: {peak}");
+    for k in 1..z.len() - 1 {
+        let lhs = (z[k + 1] - 2.0 * z[k] + z[k - 1]) / (dt * dt);
+        let rhs = (az[k + 1] + 2.0 * az[k] + az[k - 1]) / 4.0;
+        assert!((lhs - rhs).abs() < 1e-6 * peak, "step {k}: {lhs} vs {rhs}");
+    }
+    // The same midspan as the default column, bit for bit.
+    let d0 = out_dir("probes-default");
+    assert!(maglev(&["run", "paper-4.2", "--out", d0.to_str().unwrap()])
+        .status
+        .success());
+    assert_eq!(column(&d, "span1.midspan.z"), column(&d0, "midspan_z"));
+    // A probe the case does not have is a one-line error naming the key and the limit.
+    let o = maglev(&[
+        "run",
+        "paper-4.2",
+        "--set",
+        r#"output.probes=["wheel5.z"]"#,
+        "--out",
+        out_dir("probes-bad").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("output.probes") && err.contains("at most 4"),
+        "{err}"
+    );
+}

@@ -9,6 +9,7 @@ use maglev_host_sim::hil::board::SensorFault;
 use maglev_host_sim::hil::coupling::HilOutcome;
 use maglev_host_sim::hil::link::{serve, InProc, Link, LinkFaults, StreamLink};
 use maglev_host_sim::hil::{execute_hil, HilSettings};
+use maglev_host_sim::probes::NoRecorder;
 use maglev_host_sim::scenario;
 use std::os::unix::net::UnixStream;
 use std::time::Duration;
@@ -29,7 +30,9 @@ fn socket_link(faults: LinkFaults, timeout_ms: u64) -> StreamLink {
 }
 
 fn run(link: &mut dyn Link, hs: &HilSettings, t_end: &str) -> HilOutcome {
-    execute_hil(&scenario(t_end), hs, link, |_| {}).unwrap().0
+    execute_hil(&scenario(t_end), hs, link, &mut NoRecorder, |_| {})
+        .unwrap()
+        .0
 }
 
 /// The gap loop on EMS magnets (docs/gap-loop.md), the geometry it exists for.
@@ -86,11 +89,13 @@ fn stream_link_is_bit_identical_to_in_process_even_with_link_faults() {
 fn gap_loop_firmware_holds_the_gap_bit_identically_over_the_stream_link() {
     let sc = gap_loop_scenario("0.25");
     let hs = HilSettings::default();
-    let a = execute_hil(&sc, &hs, &mut InProc::default(), |_| {})
+    let a = execute_hil(&sc, &hs, &mut InProc::default(), &mut NoRecorder, |_| {})
         .unwrap()
         .0;
     let mut link = socket_link(LinkFaults::default(), 2000);
-    let b = execute_hil(&sc, &hs, &mut link, |_| {}).unwrap().0;
+    let b = execute_hil(&sc, &hs, &mut link, &mut NoRecorder, |_| {})
+        .unwrap()
+        .0;
     assert_eq!(bits(&a), bits(&b));
     assert_eq!(a.events, b.events);
     // Past the time the paper law on EMS magnets collides (t = 0.075 s) without any event, the
@@ -106,7 +111,10 @@ fn gap_loop_firmware_holds_the_gap_bit_identically_over_the_stream_link() {
     );
     // Against the ideal core run of the same law: close (the ideal samples the outer loop once
     // per 1 ms host step, the firmware once per 100 µs tick; docs/hil.md).
-    let ideal = maglev_host_sim::setup::run_scenario(&sc, |_| {}).unwrap().0;
+    let ideal =
+        maglev_host_sim::setup::run_scenario(&sc, &mut maglev_host_sim::probes::NoRecorder, |_| {})
+            .unwrap()
+            .0;
     let c = maglev_host_sim::hil::compare::compare(&a.run.records, &ideal.records).unwrap();
     assert!(c.wheel1_gap_z.relative < 0.03, "{c:?}");
     assert!(c.midspan_z.relative < 0.01, "{c:?}");

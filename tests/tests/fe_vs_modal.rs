@@ -8,7 +8,7 @@ use maglev_host_sim::simulation::Record;
 fn run(name: &str, sets: &[&str]) -> Vec<Record> {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     let sc = scenario::load(name, &sets).unwrap();
-    let (o, _) = run_scenario(&sc, |_| {}).unwrap();
+    let (o, _) = run_scenario(&sc, &mut maglev_host_sim::probes::NoRecorder, |_| {}).unwrap();
     assert_eq!(o.unconverged_steps, 0);
     o.records
 }

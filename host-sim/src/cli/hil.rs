@@ -5,7 +5,7 @@ use crate::hil::compare::{compare, Comparison};
 use crate::hil::coupling::HilOutcome;
 use crate::hil::link::{InProc, Link, LinkFaults, LinkStats, StreamLink};
 use crate::hil::{execute_hil, HilSettings, HIL_KEYS};
-use crate::output::{write_run, Staging, Summary};
+use crate::output::{response_recorder, write_run, Staging, Summary};
 use crate::scenario;
 use crate::setup::run_scenario;
 use maglev_firmware_sim::supervision::Event;
@@ -279,19 +279,23 @@ pub fn run(args: Args) -> Result<(), String> {
         }
     }
     let sc = scenario::load(&args.scenario, &scenario_sets)?;
+    let probes = crate::setup::probes(&sc)?;
+    let out = Staging::new(&args.out)?;
+    let mut rec = response_recorder(&out, probes)?;
     let mut link = open_link(&args, faults)?;
     let mut last = Instant::now();
-    let (outcome, wall) = execute_hil(&sc, &hs, link.as_mut(), |f| {
+    let (outcome, wall) = execute_hil(&sc, &hs, link.as_mut(), &mut rec, |f| {
         if last.elapsed().as_secs_f64() > 2.0 {
             eprintln!("maglev: {:.0} % …", 100.0 * f);
             last = Instant::now();
         }
     })?;
+    rec.finish()?;
     let stats = link.stats();
     drop(link);
     let (events, first_fault_s) = event_counts(&outcome);
     let (cmp, cmp_before) = if args.compare {
-        let (ideal, _) = run_scenario(&sc, |_| {})?;
+        let (ideal, _) = run_scenario(&sc, &mut crate::probes::NoRecorder, |_| {})?;
         let all = compare(&outcome.run.records, &ideal.records)?;
         let before = match first_fault_s {
             Some(tf) => {
@@ -322,7 +326,6 @@ pub fn run(args: Args) -> Result<(), String> {
         compare_before_fault: cmp_before,
         run,
     };
-    let out = Staging::new(&args.out)?;
     write_run(&out, &outcome.run, &summary.run)?;
     let put = |name: &str, text: String| out.put(name, &text);
     put(

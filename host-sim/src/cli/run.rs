@@ -1,7 +1,7 @@
 //! `maglev run SCENARIO [--set key=value]... [--out DIR] [--strict]`: one passage over an FE,
 //! modal or rigid guideway.
 
-use crate::output::{gap_ranges, write_run, Staging, Summary};
+use crate::output::{gap_ranges, response_recorder, write_run, Staging, Summary};
 use crate::scenario;
 use crate::setup::run_scenario;
 use crate::simulation::Outcome;
@@ -69,16 +69,19 @@ pub fn warn(outcome: &Outcome) {
 /// (the outputs are written; the caller exits 3).
 pub fn run(args: Args) -> Result<bool, String> {
     let sc = scenario::load(&args.scenario, &args.sets)?;
+    let probes = crate::setup::probes(&sc)?;
+    let out = Staging::new(&args.out)?;
+    let mut rec = response_recorder(&out, probes)?;
     let mut last = Instant::now();
-    let (outcome, wall) = run_scenario(&sc, |f| {
+    let (outcome, wall) = run_scenario(&sc, &mut rec, |f| {
         if last.elapsed().as_secs_f64() > 2.0 {
             eprintln!("maglev: {:.0} % …", 100.0 * f);
             last = Instant::now();
         }
     })?;
+    rec.finish()?;
     warn(&outcome);
     let summary = Summary::new(&args.scenario, &sc, &outcome, wall);
-    let out = Staging::new(&args.out)?;
     write_run(&out, &outcome, &summary)?;
     out.finish()?;
     eprintln!(

@@ -97,7 +97,7 @@ fn run(case_sets: &[String], common: &Common) -> Result<Run, String> {
     sets.extend_from_slice(case_sets);
     sets.push(format!("scheme={}", scheme_name(common.scheme)));
     let sc: Scenario = scenario::load("paper-4.2", &sets)?;
-    let (o, wall) = run_scenario(&sc, |_| {})?;
+    let (o, wall) = run_scenario(&sc, &mut crate::probes::NoRecorder, |_| {})?;
     if o.unconverged_steps > 0 {
         return Err(format!(
             "{} steps did not converge in {sets:?}",

@@ -12,10 +12,7 @@
 use super::board::{force, Sensors};
 use super::link::Link;
 use super::HilSettings;
-use crate::guideway::Guideway;
-use crate::simulation::{
-    couple, initial_gaps, magnet_gaps, Law, Magnets, Outcome, Profiles, Settings, WheelGaps,
-};
+use crate::simulation::{magnet_gaps, Law, Magnets, Outcome, Settings, WheelGaps};
 use crate::vehicle::VehicleModel;
 use maglev_core::gap::Geometry;
 use maglev_core::Status;
@@ -204,23 +201,4 @@ impl Magnets for FirmwareMagnets<'_> {
     fn status(&self) -> Status {
         Status::default()
     }
-}
-
-/// Runs the passage with the firmware behind `link`.
-pub fn simulate_hil<G: Guideway>(
-    guideway: &mut G,
-    v: &VehicleModel,
-    profiles: &Profiles,
-    s: &Settings,
-    hs: &HilSettings,
-    link: &mut dyn Link,
-    progress: impl FnMut(f64),
-) -> Result<HilOutcome, String> {
-    let gaps0 = initial_gaps(v, profiles, s.controller.h0);
-    let mut magnets = FirmwareMagnets::new(v, &gaps0, s, hs, link)?;
-    let out = couple(guideway, v, profiles, s, &mut magnets, progress)?;
-    Ok(HilOutcome {
-        run: out,
-        events: magnets.events,
-    })
 }

@@ -14,11 +14,13 @@ pub mod compare;
 pub mod coupling;
 pub mod link;
 
+use crate::probes::Recorder;
 use crate::scenario::{Scenario, VehicleSection};
 use crate::setup::Passage;
 use crate::simulation::Load;
+use crate::simulation::{couple, initial_gaps};
 use board::SensorFault;
-use coupling::{simulate_hil, HilOutcome};
+use coupling::{FirmwareMagnets, HilOutcome};
 use link::Link;
 use maglev_firmware_sim::adc::AdcModel;
 use maglev_firmware_sim::protocol::ScalarKind;
@@ -131,6 +133,7 @@ pub fn execute_hil(
     sc: &Scenario,
     hs: &HilSettings,
     link: &mut dyn Link,
+    rec: &mut dyn Recorder,
     progress: impl FnMut(f64),
 ) -> Result<(HilOutcome, f64), String> {
     let VehicleSection::Fig1 { .. } = &sc.vehicle else {
@@ -140,15 +143,22 @@ pub fn execute_hil(
     let Load::Vehicle(v) = &p.load else {
         unreachable!("a fig1 scenario builds a vehicle")
     };
+    let s = &p.settings;
     let start = Instant::now();
-    let out = simulate_hil(
+    let gaps0 = initial_gaps(v, &p.profiles, s.controller.h0);
+    let mut magnets = FirmwareMagnets::new(v, &gaps0, s, hs, link)?;
+    let run = couple(
         &mut p.guideway,
         v,
         &p.profiles,
-        &p.settings,
-        hs,
-        link,
+        s,
+        &mut magnets,
+        rec,
         progress,
     )?;
+    let out = HilOutcome {
+        run,
+        events: magnets.events,
+    };
     Ok((out, start.elapsed().as_secs_f64()))
 }

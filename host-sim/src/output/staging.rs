@@ -52,6 +52,11 @@ impl Staging {
         })
     }
 
+    /// Where file `name` of the run is being written (for streamed files).
+    pub fn path(&self, name: &str) -> PathBuf {
+        self.tmp.join(name)
+    }
+
     /// Writes (or replaces) one file of the run.
     pub fn put(&self, name: &str, text: &str) -> Result<(), String> {
         let p = self.tmp.join(name);

@@ -1,0 +1,387 @@
+//! What a run records: named probes, one `response.csv` column each, streamed row by row as
+//! the run goes.
+//!
+//! Why named probes: a train over a viaduct has hundreds of magnets and dozens of spans; a
+//! fixed set of columns (wheel 1, span 1) cannot say where a §5 study looks. A probe names a
+//! quantity by where it is:
+//!
+//! - `span{K}.midspan.{y,z,rx}`: the beam axis at the middle of span K (from 1), m and rad;
+//! - `wheel{N}.{y,z,gap_y,gap_z,force_z}`: wheel N's displacements (m), its guidance gap
+//!   `gap_y` (the left magnet's, h0 + d, docs/model.md §2) and levitation gap `gap_z` (m), and
+//!   its levitation force (N, up); for a `forces` train, load N's point of the guideway and
+//!   its force (no gaps);
+//! - `car{N}.body.{z,az}`: car N's body heave (m) and vertical acceleration (m/s²).
+//!
+//! Today's default columns keep their names (`midspan_z` is `span1.midspan.z`, `wheel1_gap_z`
+//! is `wheel1.gap_z`, …). Every probe is checked against the case before the run starts.
+
+use crate::guideway::Guideway;
+use crate::simulation::magnet_gaps;
+use std::io::Write;
+
+/// The columns of a run without `[output] probes`.
+pub const DEFAULT: [&str; 7] = [
+    "midspan_y",
+    "midspan_z",
+    "midspan_rx",
+    "wheel1_y",
+    "wheel1_z",
+    "wheel1_gap_z",
+    "wheel1_force_z",
+];
+
+/// A quantity of a section of the beam axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SectionQ {
+    Y,
+    Z,
+    Rx,
+}
+
+/// A quantity of a wheel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WheelQ {
+    Y,
+    Z,
+    GapY,
+    GapZ,
+    ForceZ,
+}
+
+/// A quantity of a car body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BodyQ {
+    Z,
+    Az,
+}
+
+/// One probe (indices from 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Probe {
+    Midspan { span: usize, q: SectionQ },
+    Wheel { wheel: usize, q: WheelQ },
+    Body { car: usize, q: BodyQ },
+}
+
+/// What the case offers to probe.
+#[derive(Clone, Copy, Debug)]
+pub struct Extent {
+    pub spans: usize,
+    pub wheels: usize,
+    pub cars: usize,
+    /// Whether the wheels carry magnets (gaps).
+    pub magnets: bool,
+}
+
+fn index(s: &str, prefix: &str, name: &str, limit: usize) -> Result<usize, String> {
+    let k: usize = s
+        .strip_prefix(prefix)
+        .and_then(|n| n.parse().ok())
+        .filter(|&k| k >= 1)
+        .ok_or_else(|| format!("output.probes: `{name}`: expected {prefix}N with N from 1"))?;
+    if k > limit {
+        return Err(format!(
+            "output.probes: `{name}`: the case has {limit} {prefix}(s), so N is at most {limit}"
+        ));
+    }
+    Ok(k - 1)
+}
+
+/// Parses one probe name against the case's extent.
+pub fn parse(name: &str, e: &Extent) -> Result<Probe, String> {
+    let alias = match name {
+        "midspan_y" => "span1.midspan.y",
+        "midspan_z" => "span1.midspan.z",
+        "midspan_rx" => "span1.midspan.rx",
+        "wheel1_y" => "wheel1.y",
+        "wheel1_z" => "wheel1.z",
+        "wheel1_gap_z" => "wheel1.gap_z",
+        "wheel1_force_z" => "wheel1.force_z",
+        other => other,
+    };
+    let parts: Vec<&str> = alias.split('.').collect();
+    let bad = || {
+        format!(
+            "output.probes: unknown probe `{name}` (span{{K}}.midspan.{{y,z,rx}}, wheel{{N}}.{{y,z,gap_y,gap_z,force_z}}, car{{N}}.body.{{z,az}})"
+        )
+    };
+    match parts.as_slice() {
+        [s, "midspan", q] if s.starts_with("span") => {
+            let q = match *q {
+                "y" => SectionQ::Y,
+                "z" => SectionQ::Z,
+                "rx" => SectionQ::Rx,
+                _ => return Err(bad()),
+            };
+            Ok(Probe::Midspan {
+                span: index(s, "span", name, e.spans)?,
+                q,
+            })
+        }
+        [w, q] if w.starts_with("wheel") => {
+            let q = match *q {
+                "y" => WheelQ::Y,
+                "z" => WheelQ::Z,
+                "gap_y" => WheelQ::GapY,
+                "gap_z" => WheelQ::GapZ,
+                "force_z" => WheelQ::ForceZ,
+                _ => return Err(bad()),
+            };
+            if !e.magnets && matches!(q, WheelQ::GapY | WheelQ::GapZ) {
+                return Err(format!(
+                    "output.probes: `{name}`: the loads of a forces train have no gaps"
+                ));
+            }
+            Ok(Probe::Wheel {
+                wheel: index(w, "wheel", name, e.wheels)?,
+                q,
+            })
+        }
+        [c, "body", q] if c.starts_with("car") => {
+            let q = match *q {
+                "z" => BodyQ::Z,
+                "az" => BodyQ::Az,
+                _ => return Err(bad()),
+            };
+            Ok(Probe::Body {
+                car: index(c, "car", name, e.cars)?,
+                q,
+            })
+        }
+        _ => Err(bad()),
+    }
+}
+
+/// The probes of a run and their column names.
+#[derive(Clone, Debug)]
+pub struct Probes {
+    pub names: Vec<String>,
+    pub probes: Vec<Probe>,
+}
+
+impl Probes {
+    /// `names` (or [`DEFAULT`] when `None`), each checked against the case.
+    pub fn new(names: Option<&[String]>, e: &Extent) -> Result<Self, String> {
+        let names: Vec<String> = match names {
+            Some(n) if !n.is_empty() => n.to_vec(),
+            Some(_) => return Err("output.probes must name at least one probe".into()),
+            None => DEFAULT.iter().map(|s| s.to_string()).collect(),
+        };
+        let mut probes = Vec::with_capacity(names.len());
+        for n in &names {
+            // The default set on a forces train: wheel 1's gap is not applicable (empty cells).
+            if !e.magnets && n == "wheel1_gap_z" && names.len() == DEFAULT.len() {
+                probes.push(Probe::Wheel {
+                    wheel: 0,
+                    q: WheelQ::GapZ,
+                });
+                continue;
+            }
+            probes.push(parse(n, e)?);
+        }
+        Ok(Probes { names, probes })
+    }
+}
+
+/// The wheels of a step as the probes see them.
+pub enum Wheels<'a> {
+    /// A vehicle: its committed displacements and accelerations, each wheel's (point on the
+    /// guideway, DOFs), gaps `(h_z, d)` and levitation forces.
+    Vehicle {
+        u: &'a [f64],
+        a: &'a [f64],
+        dofs: &'a [(usize, usize)],
+        gaps: &'a [(f64, f64)],
+        forces: &'a [(f64, f64)],
+        h0: f64,
+        /// The body's heave DOF of each car.
+        body_z: &'a [usize],
+    },
+    /// Moving forces: each load's position and force.
+    Forces {
+        points: &'a [(f64, f64, f64)],
+        forces: &'a [f64],
+    },
+}
+
+/// Everything the probes may read at the end of a committed step.
+pub struct StepView<'a> {
+    pub t: f64,
+    pub guideway: &'a dyn Guideway,
+    /// X of each span's middle.
+    pub midspans: &'a [f64],
+    pub wheels: Wheels<'a>,
+    pub iterations: u32,
+    pub collision: bool,
+}
+
+impl StepView<'_> {
+    /// The value of `p` (NaN where not applicable).
+    pub fn value(&self, p: &Probe) -> f64 {
+        match *p {
+            Probe::Midspan { span, q } => {
+                let m = self.guideway.section_at(self.midspans[span]);
+                match q {
+                    SectionQ::Y => m.y,
+                    SectionQ::Z => m.z,
+                    SectionQ::Rx => m.rx,
+                }
+            }
+            Probe::Wheel { wheel, q } => match &self.wheels {
+                Wheels::Vehicle {
+                    u,
+                    dofs,
+                    gaps,
+                    forces,
+                    h0,
+                    ..
+                } => {
+                    let (dy, dz) = dofs[wheel];
+                    match q {
+                        WheelQ::Y => u[dy],
+                        WheelQ::Z => u[dz],
+                        WheelQ::GapY => magnet_gaps(gaps[wheel], *h0)[1],
+                        WheelQ::GapZ => gaps[wheel].0,
+                        WheelQ::ForceZ => forces[wheel].0,
+                    }
+                }
+                Wheels::Forces { points, forces } => {
+                    let (x, ey, ez) = points[wheel];
+                    match q {
+                        WheelQ::Y => self.guideway.motion_at(x, ey, ez).y,
+                        WheelQ::Z => self.guideway.motion_at(x, ey, ez).z,
+                        WheelQ::ForceZ => forces[wheel],
+                        WheelQ::GapY | WheelQ::GapZ => f64::NAN,
+                    }
+                }
+            },
+            Probe::Body { car, q } => match &self.wheels {
+                Wheels::Vehicle { u, a, body_z, .. } => match q {
+                    BodyQ::Z => u[body_z[car]],
+                    BodyQ::Az => a[body_z[car]],
+                },
+                Wheels::Forces { .. } => f64::NAN,
+            },
+        }
+    }
+}
+
+/// Where each committed step goes.
+pub trait Recorder {
+    fn record(&mut self, step: &StepView) -> Result<(), String>;
+}
+
+/// Records nothing (runs whose callers keep only the in-memory records).
+pub struct NoRecorder;
+
+impl Recorder for NoRecorder {
+    fn record(&mut self, _step: &StepView) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// Streams `t, <probes…>, iterations, collision` rows to a CSV file (SI; shortest round-trip
+/// decimals; not-applicable values empty).
+pub struct CsvRecorder<W: Write> {
+    probes: Probes,
+    out: csv::Writer<W>,
+    cell: Vec<String>,
+}
+
+impl<W: Write> CsvRecorder<W> {
+    /// Writes the header.
+    pub fn new(probes: Probes, sink: W) -> Result<Self, String> {
+        let mut out = csv::Writer::from_writer(sink);
+        let mut header = vec!["t".to_string()];
+        header.extend(probes.names.iter().cloned());
+        header.push("iterations".into());
+        header.push("collision".into());
+        out.write_record(&header).map_err(|e| e.to_string())?;
+        let cell = vec![String::new(); header.len()];
+        Ok(CsvRecorder { probes, out, cell })
+    }
+
+    /// Flushes and returns the sink.
+    pub fn finish(self) -> Result<W, String> {
+        self.out.into_inner().map_err(|e| e.to_string())
+    }
+}
+
+impl<W: Write> Recorder for CsvRecorder<W> {
+    fn record(&mut self, step: &StepView) -> Result<(), String> {
+        use std::fmt::Write as _;
+        let n = self.probes.probes.len();
+        for c in &mut self.cell {
+            c.clear();
+        }
+        let _ = write!(self.cell[0], "{}", step.t);
+        for (k, p) in self.probes.probes.iter().enumerate() {
+            let v = step.value(p);
+            if v.is_finite() {
+                let _ = write!(self.cell[k + 1], "{v}");
+            }
+        }
+        let _ = write!(self.cell[n + 1], "{}", step.iterations);
+        let _ = write!(self.cell[n + 2], "{}", u8::from(step.collision));
+        self.out
+            .write_record(&self.cell)
+            .map_err(|e| format!("cannot write response.csv: {e}"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const E: Extent = Extent {
+        spans: 3,
+        wheels: 4,
+        cars: 1,
+        magnets: true,
+    };
+
+    #[test]
+    fn names_parse_and_are_checked_against_the_case() {
+        assert_eq!(
+            parse("span3.midspan.rx", &E),
+            Ok(Probe::Midspan {
+                span: 2,
+                q: SectionQ::Rx
+            })
+        );
+        assert_eq!(parse("midspan_z", &E), parse("span1.midspan.z", &E));
+        assert_eq!(
+            parse("wheel4.gap_y", &E),
+            Ok(Probe::Wheel {
+                wheel: 3,
+                q: WheelQ::GapY
+            })
+        );
+        assert_eq!(
+            parse("car1.body.az", &E),
+            Ok(Probe::Body {
+                car: 0,
+                q: BodyQ::Az
+            })
+        );
+        let e = parse("span4.midspan.z", &E).unwrap_err();
+        assert!(e.contains("at most 3"), "{e}");
+        let e = parse("wheel0.z", &E).unwrap_err();
+        assert!(e.contains("from 1"), "{e}");
+        assert!(parse("wheel1.colour", &E)
+            .unwrap_err()
+            .contains("unknown probe"));
+        assert!(parse("car2.body.z", &E).is_err());
+        let forces = Extent {
+            magnets: false,
+            cars: 0,
+            ..E
+        };
+        assert!(parse("wheel1.gap_z", &forces)
+            .unwrap_err()
+            .contains("no gaps"));
+        assert!(parse("car1.body.z", &forces).is_err());
+        assert!(Probes::new(Some(&[]), &E).is_err());
+        assert_eq!(Probes::new(None, &E).unwrap().names.len(), DEFAULT.len());
+    }
+}
