@@ -11,6 +11,7 @@ use crate::stability::gauss;
 use crate::stability::gloop::Loop;
 use crate::stability::plant::{rigid_growth_rate, Plant, Suspension};
 use crate::stability::Complex;
+use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
 use serde::Serialize;
 
@@ -120,7 +121,9 @@ pub fn report(args: &Args) -> Result<Report, String> {
         k: args.k_susp,
         c: args.c_susp,
     };
-    let plant = Plant::new(&p, &susp)?;
+    // The quarter vehicle of issue 5 under the EMS reading (unchanged output; the scenario's
+    // own vehicle and geometry are `--scenario`).
+    let plant = Plant::new(&p, &susp, Geometry::Ems)?;
     Ok(Report {
         scheme: if accurate { "accurate" } else { "paper" },
         intervals: accurate.then(|| maglev_core::levitation::accurate::intervals(&p)),
@@ -139,7 +142,8 @@ pub fn report(args: &Args) -> Result<Report, String> {
         plant_body_mass_kg: plant.body_mass,
         plant_magnet_mass_kg: args.magnet_mass,
         rigid_gap_growth_per_s: rigid_growth_rate(&p),
-        gap_loop_poles: GapLoopPlant::new(&p, &susp, &GapParams::designed())?.poles(),
+        gap_loop_poles: GapLoopPlant::new(&p, &susp, &GapParams::designed(), Geometry::Ems)?
+            .poles(),
     })
 }
 
