@@ -102,10 +102,26 @@ impl GapLoopPlant {
         gains: &GapParams,
         geometry: Geometry,
     ) -> Result<Self, String> {
-        let dhl = gap::guidance_gaps(0.0, 1.0).0;
-        let sign = geometry.guidance_sign() * dhl;
-        let body = params.p0 / GRAVITY - s.magnet_mass;
-        let plant = Plant::with_body(params, s, body, sign, 2.0)?;
+        Self::with_body(params, s, params.p0 / GRAVITY - s.magnet_mass, gains, geometry, true)
+    }
+
+    /// One magnet's loop with an explicit body mass (kg): the levitation magnet
+    /// (`pair = false`, as [`GapLoopPlant::new`]) or a guidance pair's differential mode
+    /// (`pair = true`, as [`GapLoopPlant::guidance_pair`]).
+    pub fn with_body(
+        params: &Params,
+        s: &Suspension,
+        body_mass: f64,
+        gains: &GapParams,
+        geometry: Geometry,
+        pair: bool,
+    ) -> Result<Self, String> {
+        let (sign, gain) = if pair {
+            (geometry.guidance_sign() * gap::guidance_gaps(0.0, 1.0).0, 2.0)
+        } else {
+            (geometry.levitation_sign(), 1.0)
+        };
+        let plant = Plant::with_body(params, s, body_mass, sign, gain)?;
         Self::from_plant(params, plant, gains, sign)
     }
 

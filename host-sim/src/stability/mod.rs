@@ -17,6 +17,7 @@
 //! Per-unit notation is the core's (`maglev_core::levitation`): `x = g/g0 − 1`,
 //! `y = KI·e_a/(R0·i0) − 1`, `η = h/h0 − 1`.
 
+pub mod design;
 pub mod discrete;
 pub mod eig;
 pub mod gap_loop;
@@ -70,3 +71,4 @@ pub fn eigenvalues(a: &nalgebra::DMatrix<f64>) -> Result<Vec<Complex>, String> {
 
 #[cfg(test)]
 mod tests;
+

@@ -287,3 +287,6 @@ pub fn critical_magnet_mass(
     }
     Ok(None)
 }
+
+#[cfg(test)]
+mod tests;
