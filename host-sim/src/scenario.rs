@@ -420,8 +420,12 @@ impl Scenario {
                         &self.fig1()?,
                         maglev_core::levitation::GRAVITY,
                     );
-                    crate::stability::design::design(&v, &self.controller_params()?, self.geometry())?
-                        .gains
+                    crate::stability::design::design(
+                        &v,
+                        &self.controller_params()?,
+                        self.geometry(),
+                    )?
+                    .gains
                 }
                 VehicleSection::MovingForce { .. } => GapParams::designed(),
             })),

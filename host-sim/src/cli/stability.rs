@@ -275,9 +275,9 @@ pub fn scenario_report(name: &str, sets: &[String]) -> Result<ScenarioReport, St
     use crate::stability::gap_loop::GapLoopPlant;
     use crate::stability::vehicle::{critical_magnet_mass, VehiclePlant, ZERO_POLE};
     let sc = crate::scenario::load(name, sets)?;
-    let fig = sc
-        .fig1()
-        .map_err(|_| "stability --scenario needs a fig1 vehicle (magnets to analyse)".to_string())?;
+    let fig = sc.fig1().map_err(|_| {
+        "stability --scenario needs a fig1 vehicle (magnets to analyse)".to_string()
+    })?;
     let inner = sc.controller_params()?;
     let law = sc.law()?;
     let geometry = sc.geometry();

@@ -79,11 +79,7 @@ pub fn per_magnet_loops(v: &VehicleModel, inner: &Params) -> Vec<(Params, Suspen
 }
 
 /// The worse abscissa of every per-magnet loop (levitation and guidance differential mode).
-fn loops_abscissa(
-    loops: &[(Params, Suspension, f64)],
-    g: &GapParams,
-    geometry: Geometry,
-) -> f64 {
+fn loops_abscissa(loops: &[(Params, Suspension, f64)], g: &GapParams, geometry: Geometry) -> f64 {
     let mut worst = f64::NEG_INFINITY;
     for (p, s, body) in loops {
         for pair in [false, true] {

@@ -102,7 +102,14 @@ impl GapLoopPlant {
         gains: &GapParams,
         geometry: Geometry,
     ) -> Result<Self, String> {
-        Self::with_body(params, s, params.p0 / GRAVITY - s.magnet_mass, gains, geometry, true)
+        Self::with_body(
+            params,
+            s,
+            params.p0 / GRAVITY - s.magnet_mass,
+            gains,
+            geometry,
+            true,
+        )
     }
 
     /// One magnet's loop with an explicit body mass (kg): the levitation magnet
@@ -117,7 +124,10 @@ impl GapLoopPlant {
         pair: bool,
     ) -> Result<Self, String> {
         let (sign, gain) = if pair {
-            (geometry.guidance_sign() * gap::guidance_gaps(0.0, 1.0).0, 2.0)
+            (
+                geometry.guidance_sign() * gap::guidance_gaps(0.0, 1.0).0,
+                2.0,
+            )
         } else {
             (geometry.levitation_sign(), 1.0)
         };

@@ -50,7 +50,7 @@ pub fn write_rows(
     match (gains, at.q) {
         (None, _) => {}
         (Some(g), Some(iq)) => {
-            if !(g.tf > 0.0) {
+            if g.tf.is_nan() || g.tf <= 0.0 {
                 return Err("the gap loop's analysis needs a derivative filter tf > 0".into());
             }
             let kdf = g.kd / g.tf;

@@ -71,4 +71,3 @@ pub fn eigenvalues(a: &nalgebra::DMatrix<f64>) -> Result<Vec<Complex>, String> {
 
 #[cfg(test)]
 mod tests;
-

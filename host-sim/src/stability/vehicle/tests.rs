@@ -50,7 +50,10 @@ fn heave_is_the_quarter_car_in_both_geometries() {
         .unwrap()
         .verdict()
         .unwrap();
-    assert!(ems.poles.iter().any(|z| (z.re - 3.99).abs() < 0.01 && z.im == 0.0));
+    assert!(ems
+        .poles
+        .iter()
+        .any(|z| (z.re - 3.99).abs() < 0.01 && z.im == 0.0));
     assert!(ems
         .poles
         .iter()
@@ -133,14 +136,10 @@ fn critical_mass_brackets_the_verdict() {
 /// `(t, wheel-1 gap change per step, lateral change per step)`: the increments remove the
 /// zero poles' constant offsets, so their envelope follows the non-zero poles.
 fn disturbed(sets: &[&str], t_end: f64, step_m: f64) -> Vec<(f64, f64)> {
-    let mut all: Vec<String> = [
-        "model=rigid",
-        "speed=10",
-        "irregularity.enabled=false",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
+    let mut all: Vec<String> = ["model=rigid", "speed=10", "irregularity.enabled=false"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
     // The near-critical cases' 70 rad/s mode needs the finer step (module docs of the test).
     let fine = sets.iter().any(|s| s.starts_with("vehicle.wheel_mass_kg"));
     all.push(if fine { "dt=5e-5" } else { "dt=2e-4" }.into());
@@ -154,7 +153,14 @@ fn disturbed(sets: &[&str], t_end: f64, step_m: f64) -> Vec<(f64, f64)> {
         y: Box::new(step),
         z: Box::new(step),
     };
-    let out = simulate(&mut pa.guideway, &pa.load, &pa.profiles, &pa.settings, |_| {}).unwrap();
+    let out = simulate(
+        &mut pa.guideway,
+        &pa.load,
+        &pa.profiles,
+        &pa.settings,
+        |_| {},
+    )
+    .unwrap();
     assert_eq!(out.collision_steps, 0);
     out.records
         .windows(2)
@@ -210,7 +216,10 @@ fn nonlinear_passages_follow_the_predicted_rates() {
     for (sets, t0, t_end) in cases {
         let (sigma, period) = predicted(sets);
         let win = period.max(0.05);
-        assert!(t_end - t0 >= 3.0 * win, "{sets:?}: horizon too short for {win} s windows");
+        assert!(
+            t_end - t0 >= 3.0 * win,
+            "{sets:?}: horizon too short for {win} s windows"
+        );
         // 1 µm, or 1 nm where the vehicle diverges (it must not reach the rail).
         let r = disturbed(sets, t_end, if sigma > 0.0 { 1e-9 } else { 1e-6 });
         let got = rate(&r, t0, t_end, win);
