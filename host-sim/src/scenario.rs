@@ -424,6 +424,7 @@ impl Scenario {
                         &v,
                         &self.controller_params()?,
                         self.geometry(),
+                        Some(self.run.dt_s),
                     )?
                     .gains
                 }

@@ -246,6 +246,10 @@ pub struct GainsReport {
     pub kd_s: f64,
     pub tf_s: f64,
     pub x_ref_max: f64,
+    /// The reference delay the design assumed (s): the scenario's step, the outer loop's hold.
+    pub design_delay_s: f64,
+    /// The vehicle's spectral abscissa with that delay (first-order Padé, 1/s).
+    pub sampled_max_real_part: f64,
     /// Wheel 1's per-magnet loops with these gains (levitation; guidance pair's differential
     /// mode), the plants the design works on (1/s).
     pub levitation_loop_poles: Vec<Complex>,
@@ -306,7 +310,11 @@ pub fn scenario_report(name: &str, sets: &[String]) -> Result<ScenarioReport, St
                     &GapLoopPlant::with_body(p, s, *body, &g, geometry, pair)?.a,
                 )
             };
+            let sampled =
+                VehiclePlant::sampled(&v, &inner, &law, geometry, Some(sc.run.dt_s))?.verdict()?;
             Some(GainsReport {
+                design_delay_s: sc.run.dt_s,
+                sampled_max_real_part: sampled.max_real_part,
                 kp: g.kp,
                 kd_s: g.kd,
                 tf_s: g.tf,
@@ -362,12 +370,14 @@ pub fn scenario_table(r: &ScenarioReport) -> String {
     );
     if let Some(g) = &r.gap_loop {
         out += &format!(
-            "gap-loop gains             kp {:e}, kd {:e} s, tf {:e} s\n\
+            "gap-loop gains             kp {:e}, kd {:e} s, tf {:e} s (sampled abscissa {:.6} 1/s at a {} s delay)\n\
              levitation loop (1/s)      {}\n\
              guidance loop (1/s)        {}\n",
             g.kp,
             g.kd_s,
             g.tf_s,
+            g.sampled_max_real_part,
+            g.design_delay_s,
             list(&g.levitation_loop_poles),
             list(&g.guidance_loop_poles)
         );

@@ -18,7 +18,10 @@
 //!    as the differential mode of its guidance pair (gain 2, `GapLoopPlant::guidance_pair`);
 //!    the design value is the worse of the two: a 20 × 20 × 5 grid over `|kp| ∈ [1e-4, 1]`,
 //!    `|kd| ∈ [1e-5, 0.1] s`, `tf ∈ {0.2, 0.5, 1, 2, 5} ms` (log-spaced);
-//! 2. then the full vehicle with every magnet ([`super::vehicle::VehiclePlant`]), by a compass
+//! 2. then the full vehicle with every magnet ([`super::vehicle::VehiclePlant::sampled`]), with
+//!    the reference delayed by the scenario's step `Δt` (first-order Padé: the outer loop holds
+//!    its reference over each step, formed from the gap at its start) and without it (the
+//!    worse of the two abscissas; first on the continuous loop alone), by a compass
 //!    search in `(log|kp|, log|kd|, log tf)` from the best grid point: ± the step on each
 //!    axis, move on any improvement, halve the step when none, stop at 1/64; `tf` kept in
 //!    [0.2, 5] ms.
@@ -94,14 +97,33 @@ fn loops_abscissa(loops: &[(Params, Suspension, f64)], g: &GapParams, geometry: 
 }
 
 /// The full vehicle's abscissa with gains `g`, +∞ if it cannot be built or solved.
-fn vehicle_abscissa(v: &VehicleModel, inner: &Params, g: &GapParams, geometry: Geometry) -> f64 {
-    VehiclePlant::new(v, inner, &Law::GapLoop(*g), geometry)
-        .and_then(|pl| pl.verdict())
-        .map_or(f64::INFINITY, |vd| vd.max_real_part)
+fn vehicle_abscissa(
+    v: &VehicleModel,
+    inner: &Params,
+    g: &GapParams,
+    geometry: Geometry,
+    delay: Option<f64>,
+) -> f64 {
+    // Both the continuous loop (what `stability --scenario` reports) and the delayed one
+    // (what a run sampled at Δt does) must be stable: the worse of the two.
+    [None, delay]
+        .into_iter()
+        .map(|d| {
+            VehiclePlant::sampled(v, inner, &Law::GapLoop(*g), geometry, d)
+                .and_then(|pl| pl.verdict())
+                .map_or(f64::INFINITY, |vd| vd.max_real_part)
+        })
+        .fold(f64::NEG_INFINITY, f64::max)
 }
 
-/// Designs the gap loop's gains for vehicle `v` with the inner law `inner` (module docs).
-pub fn design(v: &VehicleModel, inner: &Params, geometry: Geometry) -> Result<Design, String> {
+/// Designs the gap loop's gains for vehicle `v` with the inner law `inner`, the reference
+/// delayed by `delay` (s; `None`: the continuous loop) in the final search (module docs).
+pub fn design(
+    v: &VehicleModel,
+    inner: &Params,
+    geometry: Geometry,
+    delay: Option<f64>,
+) -> Result<Design, String> {
     let loops = per_magnet_loops(v, inner);
     let axis = |lo: f64, hi: f64, n: usize, i: usize| {
         lo.ln() + (hi.ln() - lo.ln()) * i as f64 / (n - 1) as f64
@@ -118,26 +140,32 @@ pub fn design(v: &VehicleModel, inner: &Params, geometry: Geometry) -> Result<De
             }
         }
     }
+    // First on the continuous loop alone, then from there on the worse of the continuous and
+    // the delayed loop (a search from the grid point on the latter alone can stall in an
+    // unstable region).
     let mut u = best.0;
-    let mut fu = vehicle_abscissa(v, inner, &gains(geometry, u), geometry);
-    let mut step = 0.5;
-    while step > 1.0 / 64.0 {
-        let mut moved = false;
-        for k in 0..3 {
-            for sgn in [1.0, -1.0] {
-                let mut w = u;
-                w[k] += sgn * step;
-                // The filter stays within the grid's range: below 0.2 ms (two firmware
-                // ticks) the continuous derivative no longer describes the sampled one.
-                w[2] = w[2].clamp(TF_MIN.ln(), TF_MAX.ln());
-                let fw = vehicle_abscissa(v, inner, &gains(geometry, w), geometry);
-                if fw < fu {
-                    (u, fu, moved) = (w, fw, true);
+    let mut fu = f64::INFINITY;
+    for d in [None, delay] {
+        fu = vehicle_abscissa(v, inner, &gains(geometry, u), geometry, d);
+        let mut step = 0.5;
+        while step > 1.0 / 64.0 {
+            let mut moved = false;
+            for k in 0..3 {
+                for sgn in [1.0, -1.0] {
+                    let mut w = u;
+                    w[k] += sgn * step;
+                    // The filter stays within the grid's range: below 0.2 ms (two firmware
+                    // ticks) the continuous derivative no longer describes the sampled one.
+                    w[2] = w[2].clamp(TF_MIN.ln(), TF_MAX.ln());
+                    let fw = vehicle_abscissa(v, inner, &gains(geometry, w), geometry, d);
+                    if fw < fu {
+                        (u, fu, moved) = (w, fw, true);
+                    }
                 }
             }
-        }
-        if !moved {
-            step *= 0.5;
+            if !moved {
+                step *= 0.5;
+            }
         }
     }
     if !fu.is_finite() {

@@ -84,6 +84,7 @@ impl GapLoopPlant {
             x: n - 2,
             y: n - 1,
             q: Some(n),
+            delay: None,
         };
         magnet::write_rows(&mut a, at, &[(0, eta_per_m / params.h0)], &lp, Some(gains))?;
         let mut states = plant.states.to_vec();

@@ -20,7 +20,7 @@ use maglev_core::gap_control::GapParams;
 use nalgebra::DMatrix;
 
 /// Where one magnet's states sit in the closed-loop state vector.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Slots {
     /// The flux deviation `x`.
     pub x: usize,
@@ -28,6 +28,10 @@ pub struct Slots {
     pub y: usize,
     /// The gap loop's filter state `q` (gap loop only).
     pub q: Option<usize>,
+    /// A first-order Padé delay `δ` (s) on the reference and its state `w` (gap loop only):
+    /// the inner law sees `x_ref,δ = 2·w − x_ref`, `(δ/2)·ẇ = x_ref − w`, i.e.
+    /// `x_ref·(1 − sδ/2)/(1 + sδ/2) ≈ x_ref·e^{−sδ}` — the sampled loop's hold (docs/gap-loop.md).
+    pub delay: Option<(usize, f64)>,
 }
 
 /// Writes the rows of `x`, `y` (and `q`) of one magnet into `a` (overwriting them): the law of
@@ -64,6 +68,21 @@ pub fn write_rows(
             a[(iq, iq)] -= 1.0 / g.tf;
         }
         (Some(_), None) => return Err("internal: a gap-loop magnet needs a q slot".into()),
+    }
+    if let Some((iw, d)) = at.delay {
+        if gains.is_some() {
+            if d.is_nan() || d <= 0.0 {
+                return Err("the reference delay must be positive".into());
+            }
+            for j in 0..n {
+                a[(iw, j)] = 2.0 * r[j] / d;
+            }
+            a[(iw, iw)] -= 2.0 / d;
+            for rj in r.iter_mut() {
+                *rj = -*rj;
+            }
+            r[iw] += 2.0;
+        }
     }
     let kpv = lp.p - 1.0;
     for j in 0..n {

@@ -103,6 +103,19 @@ impl VehiclePlant {
         law: &Law,
         geometry: Geometry,
     ) -> Result<Self, String> {
+        Self::sampled(v, inner, law, geometry, None)
+    }
+
+    /// As [`VehiclePlant::new`], with the gap loop's reference delayed by `delay` (s, a
+    /// first-order Padé, [`super::magnet::Slots::delay`]): the sampled loop's hold, for the
+    /// design. Ignored under the paper's law.
+    pub fn sampled(
+        v: &VehicleModel,
+        inner: &Params,
+        law: &Law,
+        geometry: Geometry,
+        delay: Option<f64>,
+    ) -> Result<Self, String> {
         let n = v.m.nrows();
         if v.m.ncols() != n || v.c.shape() != (n, n) || v.k.shape() != (n, n) {
             return Err("internal: vehicle matrices are not square and of one size".into());
@@ -141,7 +154,8 @@ impl VehiclePlant {
                 Some(g)
             }
         };
-        let per = if gains.is_some() { 3 } else { 2 };
+        let delay = delay.filter(|_| gains.is_some());
+        let per = 2 + usize::from(gains.is_some()) + usize::from(delay.is_some());
         let nm = n + na;
         let ns = nm + 3 * per * v.wheels.len();
         let mut states: Vec<String> = (0..n).map(|i| format!("q[{i}]")).collect();
@@ -152,6 +166,7 @@ impl VehiclePlant {
                 x: base,
                 y: base + 1,
                 q: gains.map(|_| base + 2),
+                delay: delay.map(|d| (base + 3, d)),
             }
         };
 
@@ -185,6 +200,9 @@ impl VehiclePlant {
                 states.push(format!("{name}{}.y", w + 1));
                 if at.q.is_some() {
                     states.push(format!("{name}{}.q", w + 1));
+                }
+                if at.delay.is_some() {
+                    states.push(format!("{name}{}.w", w + 1));
                 }
             }
         }
