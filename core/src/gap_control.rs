@@ -21,7 +21,9 @@
 //! discrete:    d_k = (η_k − q_{k−1})/(tf + Δt)              (backward Euler on tf·q̇ = η − q)
 //!              q_k = q_{k−1} + Δt·d_k,   x_ref,k = kp·η_k + kd·d_k,  |x_ref| ≤ x_ref_max
 //! ```
-//! A gap that opens (`η > 0`) raises the flux reference, hence the force, and closes it.
+//! Under the EMS geometry (`kp, kd > 0`) a gap that opens (`η > 0`) raises the flux reference,
+//! hence the force, and closes it; under the paper's geometry the gap opens when the wheel
+//! rises, the force must fall, and the gains are negative (docs/gap-loop.md).
 //! The reference for the step `[t_k, t_k + Δt]` is formed from the gap measured at `t_k`
 //! (the last gap the inner state saw) and held over the step: causal, one sample of delay.
 //! In steady state the inner integral makes `x = x_ref` and the force balance `x = 0`, so the
@@ -56,9 +58,10 @@ use crate::scalar::Scalar;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GapParams {
-    /// Proportional gain `kp = (Δg_ref/g0)/(Δh/h0)`, ≥ 0.
+    /// Proportional gain `kp = (Δg_ref/g0)/(Δh/h0)`; > 0 holds the gap under "ems", < 0
+    /// under "paper".
     pub kp: f64,
-    /// Derivative gain `kd` (s), ≥ 0.
+    /// Derivative gain `kd` (s), the sign of `kp`.
     pub kd: f64,
     /// Derivative filter time constant `tf` (s), ≥ 0 (0: plain backward difference).
     pub tf: f64,
@@ -88,7 +91,9 @@ impl GapParams {
         self.kd * inner.g0() / inner.h0
     }
 
-    /// Checks every gain, naming the first bad one.
+    /// Checks every gain, naming the first bad one. `kp` and `kd` may have either sign: the
+    /// sign that holds the gap depends on the geometry (`-Geometry::levitation_sign()`:
+    /// positive under "ems", negative under "paper", docs/gap-loop.md); `tf ≥ 0`.
     pub fn validate(&self) -> Result<(), ParamError> {
         for (name, v) in [
             ("gap kp", self.kp),
@@ -98,9 +103,9 @@ impl GapParams {
             if !v.is_finite() {
                 return Err(ParamError::NotFinite(name));
             }
-            if v < 0.0 {
-                return Err(ParamError::Negative(name));
-            }
+        }
+        if self.tf < 0.0 {
+            return Err(ParamError::Negative("gap tf"));
         }
         if !self.x_ref_max.is_finite() {
             return Err(ParamError::NotFinite("gap x_ref_max"));

@@ -547,7 +547,24 @@ impl Scenario {
     pub fn law(&self) -> Result<Law, String> {
         match self.controller.as_ref().map_or("paper", |c| c.law.as_str()) {
             "paper" => Ok(Law::Paper),
-            "gap-loop" => Ok(Law::GapLoop(GapParams::designed())),
+            "gap-loop" => Ok(Law::GapLoop(match &self.vehicle {
+                // Gains designed for this scenario's vehicle, inner law and geometry
+                // (docs/gap-loop.md); a moving force has no magnets to run them.
+                VehicleSection::Fig1 { .. } => {
+                    let v = crate::vehicle::VehicleModel::fig1(
+                        &self.fig1()?,
+                        maglev_core::levitation::GRAVITY,
+                    );
+                    crate::stability::design::design(
+                        &v,
+                        &self.controller_params()?,
+                        self.geometry(),
+                        Some(self.run.dt_s),
+                    )?
+                    .gains
+                }
+                VehicleSection::MovingForce { .. } => GapParams::designed(),
+            })),
             other => Err(format!(
                 "controller.law must be `paper` or `gap-loop`, got `{other}`"
             )),
@@ -643,7 +660,7 @@ mod tests {
         assert!(e.contains("run.model"), "{e}");
         assert_eq!(load("paper-4.2", &[]).unwrap().law().unwrap(), Law::Paper);
         let s = load("paper-4.2", &["law=gap-loop".into()]).unwrap();
-        assert_eq!(s.law().unwrap(), Law::GapLoop(GapParams::designed()));
+        assert!(matches!(s.law().unwrap(), Law::GapLoop(g) if g.kp < 0.0));
         let e = load("paper-4.2", &["law=pid".into()]).unwrap_err();
         assert!(e.contains("controller.law"), "{e}");
         let s = load("paper-4.2", &["scheme=accurate".into()]).unwrap();

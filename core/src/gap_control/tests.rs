@@ -132,11 +132,21 @@ fn fixed_point_follows_f64() {
 #[test]
 fn bad_gains_are_named() {
     let mut gp = GapParams::designed();
-    gp.kd = -1.0;
+    gp.kd = f64::NAN;
     assert_eq!(
         gp.compile::<f64>(1e-3).err(),
-        Some(ParamError::Negative("gap kd"))
+        Some(ParamError::NotFinite("gap kd"))
     );
+    gp = GapParams::designed();
+    gp.tf = -1e-3;
+    assert_eq!(gp.validate(), Err(ParamError::Negative("gap tf")));
+    // Negative gains are the paper geometry's sign (docs/gap-loop.md): accepted.
+    gp = GapParams {
+        kp: -4e-3,
+        kd: -4e-3,
+        ..GapParams::designed()
+    };
+    assert!(gp.compile::<f64>(1e-3).is_ok());
     gp = GapParams::designed();
     gp.x_ref_max = 0.0;
     assert_eq!(gp.validate(), Err(ParamError::NotPositive("gap x_ref_max")));

@@ -11,6 +11,7 @@ use crate::stability::gauss;
 use crate::stability::gloop::Loop;
 use crate::stability::plant::{rigid_growth_rate, Plant, Suspension};
 use crate::stability::Complex;
+use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
 use serde::Serialize;
 
@@ -30,6 +31,13 @@ pub enum Study {
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
+    /// Analyse a scenario's own vehicle with all its magnets on a rigid rail (a bundled name
+    /// or a TOML file); the controller flags are then ignored (docs/gap-loop.md).
+    #[arg(long)]
+    pub scenario: Option<String>,
+    /// Override a scenario value (as for `maglev run`), with `--scenario`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
     /// Print a study (Markdown) instead; the other flags are then ignored.
     #[arg(long, value_enum)]
     pub study: Option<Study>,
@@ -120,7 +128,9 @@ pub fn report(args: &Args) -> Result<Report, String> {
         k: args.k_susp,
         c: args.c_susp,
     };
-    let plant = Plant::new(&p, &susp)?;
+    // The quarter vehicle of issue 5 under the EMS reading (unchanged output; the scenario's
+    // own vehicle and geometry are `--scenario`).
+    let plant = Plant::new(&p, &susp, Geometry::Ems)?;
     Ok(Report {
         scheme: if accurate { "accurate" } else { "paper" },
         intervals: accurate.then(|| maglev_core::levitation::accurate::intervals(&p)),
@@ -139,7 +149,8 @@ pub fn report(args: &Args) -> Result<Report, String> {
         plant_body_mass_kg: plant.body_mass,
         plant_magnet_mass_kg: args.magnet_mass,
         rigid_gap_growth_per_s: rigid_growth_rate(&p),
-        gap_loop_poles: GapLoopPlant::new(&p, &susp, &GapParams::designed())?.poles(),
+        gap_loop_poles: GapLoopPlant::new(&p, &susp, &GapParams::designed(), Geometry::Ems)?
+            .poles(),
     })
 }
 
@@ -210,6 +221,15 @@ pub fn run(args: Args) -> Result<(), String> {
         );
         return Ok(());
     }
+    if let Some(name) = &args.scenario {
+        let r = scenario_report(name, &args.sets)?;
+        let text = match args.format {
+            Format::Json => serde_json::to_string_pretty(&r).map_err(|e| e.to_string())? + "\n",
+            Format::Table => scenario_table(&r),
+        };
+        print!("{text}");
+        return Ok(());
+    }
     let r = report(&args)?;
     let text = match args.format {
         Format::Json => serde_json::to_string_pretty(&r).map_err(|e| e.to_string())? + "\n",
@@ -217,4 +237,150 @@ pub fn run(args: Args) -> Result<(), String> {
     };
     print!("{text}");
     Ok(())
+}
+
+/// The gap loop's gains as reported (per unit; SI seconds).
+#[derive(Debug, Serialize)]
+pub struct GainsReport {
+    pub kp: f64,
+    pub kd_s: f64,
+    pub tf_s: f64,
+    pub x_ref_max: f64,
+    /// The reference delay the design assumed (s): the scenario's step, the outer loop's hold.
+    pub design_delay_s: f64,
+    /// The vehicle's spectral abscissa with that delay (first-order Padé, 1/s).
+    pub sampled_max_real_part: f64,
+    /// Wheel 1's per-magnet loops with these gains (levitation; guidance pair's differential
+    /// mode), the plants the design works on (1/s).
+    pub levitation_loop_poles: Vec<Complex>,
+    pub guidance_loop_poles: Vec<Complex>,
+}
+
+/// `stability --scenario`: the scenario's vehicle, all magnets, rigid rail (SI, 1/s).
+#[derive(Debug, Serialize)]
+pub struct ScenarioReport {
+    pub scenario: String,
+    pub geometry: &'static str,
+    pub law: &'static str,
+    pub magnet_mass_kg: f64,
+    pub states: usize,
+    pub vehicle_poles: Vec<Complex>,
+    pub zero_poles: usize,
+    pub note: String,
+    pub max_real_part: f64,
+    pub stable: bool,
+    pub critical_magnet_mass_kg: Option<f64>,
+    pub gap_loop: Option<GainsReport>,
+}
+
+/// Computes the scenario report (no printing).
+pub fn scenario_report(name: &str, sets: &[String]) -> Result<ScenarioReport, String> {
+    use crate::simulation::Law;
+    use crate::stability::gap_loop::GapLoopPlant;
+    use crate::stability::vehicle::{critical_magnet_mass, VehiclePlant, ZERO_POLE};
+    let sc = crate::scenario::load(name, sets)?;
+    let fig = sc.fig1().map_err(|_| {
+        "stability --scenario needs a fig1 vehicle (magnets to analyse)".to_string()
+    })?;
+    let inner = sc.controller_params()?;
+    let law = sc.law()?;
+    let geometry = sc.geometry();
+    let v = crate::vehicle::VehicleModel::fig1(&fig, maglev_core::levitation::GRAVITY);
+    let plant = VehiclePlant::new(&v, &inner, &law, geometry)?;
+    let vd = plant.verdict()?;
+    let critical = critical_magnet_mass(&fig, &inner, &law, geometry)?;
+    let note = if vd.zero_poles > 0 {
+        format!(
+            "{} pole(s) with |s| < {ZERO_POLE:e} 1/s, expected: the paper's law holds each \
+             magnet's flux g = i/h, hence its force, not its gap, so every rigid-body position \
+             of the vehicle (v, w, θx, θy, θz) with the springs unstretched is an equilibrium; \
+             they are left out of max_real_part",
+            vd.zero_poles
+        )
+    } else {
+        "no zero pole: the gap loop restores every gap to h0".to_string()
+    };
+    let gap_loop = match law {
+        Law::Paper => None,
+        Law::GapLoop(g) => {
+            let loops = crate::stability::design::per_magnet_loops(&v, &inner);
+            let (p, s, body) = loops.first().ok_or("the vehicle has no wheel")?;
+            let lp = |pair| -> Result<Vec<Complex>, String> {
+                crate::stability::eigenvalues(
+                    &GapLoopPlant::with_body(p, s, *body, &g, geometry, pair)?.a,
+                )
+            };
+            let sampled =
+                VehiclePlant::sampled(&v, &inner, &law, geometry, Some(sc.run.dt_s))?.verdict()?;
+            Some(GainsReport {
+                design_delay_s: sc.run.dt_s,
+                sampled_max_real_part: sampled.max_real_part,
+                kp: g.kp,
+                kd_s: g.kd,
+                tf_s: g.tf,
+                x_ref_max: g.x_ref_max,
+                levitation_loop_poles: lp(false)?,
+                guidance_loop_poles: lp(true)?,
+            })
+        }
+    };
+    Ok(ScenarioReport {
+        scenario: name.to_string(),
+        geometry: match geometry {
+            Geometry::Paper => "paper",
+            Geometry::Ems => "ems",
+        },
+        law: match law {
+            Law::Paper => "paper",
+            Law::GapLoop(_) => "gap-loop",
+        },
+        magnet_mass_kg: fig.wheel_mass,
+        states: plant.a.nrows(),
+        vehicle_poles: vd.poles,
+        zero_poles: vd.zero_poles,
+        note,
+        max_real_part: vd.max_real_part,
+        stable: vd.stable,
+        critical_magnet_mass_kg: critical,
+        gap_loop,
+    })
+}
+
+/// The human-readable scenario table.
+pub fn scenario_table(r: &ScenarioReport) -> String {
+    let list = |v: &[Complex]| v.iter().map(fmt_c).collect::<Vec<_>>().join(", ");
+    let mut out = format!(
+        "scenario                   {} (geometry {}, law {}, magnet node mass {} kg)\n\
+         states                     {}\n\
+         stable                     {} (max real part {:.6} 1/s)\n\
+         zero poles                 {}\n\
+         critical magnet mass       {}\n\
+         vehicle poles (1/s)        {}\n",
+        r.scenario,
+        r.geometry,
+        r.law,
+        r.magnet_mass_kg,
+        r.states,
+        r.stable,
+        r.max_real_part,
+        r.zero_poles,
+        r.critical_magnet_mass_kg
+            .map_or("none up to 10 t".to_string(), |m| format!("{m:.3} kg")),
+        list(&r.vehicle_poles),
+    );
+    if let Some(g) = &r.gap_loop {
+        out += &format!(
+            "gap-loop gains             kp {:e}, kd {:e} s, tf {:e} s (sampled abscissa {:.6} 1/s at a {} s delay)\n\
+             levitation loop (1/s)      {}\n\
+             guidance loop (1/s)        {}\n",
+            g.kp,
+            g.kd_s,
+            g.tf_s,
+            g.sampled_max_real_part,
+            g.design_delay_s,
+            list(&g.levitation_loop_poles),
+            list(&g.guidance_loop_poles)
+        );
+    }
+    out
 }

@@ -34,9 +34,12 @@
 //! unstable: gap-only PD output feedback is plant-specific; redesign for another plant.
 //! the optimum abscissa.
 
+use super::magnet::{self, Slots};
 use super::plant::{Plant, Suspension};
 use super::Complex;
+use maglev_core::gap::{self, Geometry};
 use maglev_core::gap_control::GapParams;
+use maglev_core::levitation::GRAVITY;
 use maglev_core::Params;
 use nalgebra::DMatrix;
 
@@ -50,51 +53,87 @@ pub struct GapLoopPlant {
 }
 
 impl GapLoopPlant {
-    /// Builds the closed loop for the inner `params`, suspension `s` and outer `gains`
-    /// (`tf > 0`: the continuous model needs the filter).
-    pub fn new(params: &Params, s: &Suspension, gains: &GapParams) -> Result<Self, String> {
+    /// Builds the closed loop for the inner `params`, suspension `s`, outer `gains`
+    /// (`tf > 0`: the continuous model needs the filter) and gap geometry.
+    pub fn new(
+        params: &Params,
+        s: &Suspension,
+        gains: &GapParams,
+        geometry: Geometry,
+    ) -> Result<Self, String> {
+        Self::from_plant(
+            params,
+            Plant::new(params, s, geometry)?,
+            gains,
+            geometry.levitation_sign(),
+        )
+    }
+
+    fn from_plant(
+        params: &Params,
+        plant: Plant,
+        gains: &GapParams,
+        eta_per_m: f64,
+    ) -> Result<Self, String> {
         gains.validate().map_err(|e| e.to_string())?;
-        if gains.tf <= 0.0 {
-            return Err("the gap loop's analysis needs a derivative filter tf > 0".into());
-        }
-        let plant = Plant::new(params, s)?;
         let lp = super::gloop::Loop::new(params, 0.0);
         let n = plant.a.nrows();
         let mut a = plant.a.clone().resize(n + 1, n + 1, 0.0);
-        let (ix, iy, iq) = (n - 2, n - 1, n);
-        // η = −z_m/h0 (z_m is state 0 in both plant variants).
-        let mut eta = vec![0.0; n + 1];
-        eta[0] = -1.0 / params.h0;
-        let kdf = gains.kd / gains.tf;
-        let mut r = eta.iter().map(|e| (gains.kp + kdf) * e).collect::<Vec<_>>();
-        r[iq] -= kdf;
-        let kpv = lp.p - 1.0;
-        for (j, rj) in r.iter().enumerate() {
-            a[(ix, j)] += kpv * rj / lp.tau;
-            a[(iy, j)] += lp.ki * rj;
-            a[(iq, j)] = eta[j] / gains.tf;
-        }
-        a[(iq, iq)] -= 1.0 / gains.tf;
+        // z_m is state 0 in both plant variants.
+        let at = Slots {
+            x: n - 2,
+            y: n - 1,
+            q: Some(n),
+            delay: None,
+        };
+        magnet::write_rows(&mut a, at, &[(0, eta_per_m / params.h0)], &lp, Some(gains))?;
         let mut states = plant.states.to_vec();
         states.push("q");
         Ok(GapLoopPlant { a, states })
     }
 
     /// The differential mode of a guidance pair under the same loop (model.md §2): each
-    /// magnet runs the loop on its own gap, `x_d = (x_R − x_L)/2` sees `η_d = −d/h0` and the
-    /// net force is `G_R − G_L ≈ 4·p0·x_d`: this plant with the force column doubled (`d`
-    /// in place of `z_m`, the suspension's lateral spring–damper and the same body mass).
+    /// magnet runs the loop on its own gap; with `d` in place of `z_m`, the suspension's
+    /// lateral spring–damper and the same body mass, `x_d = σ_g·(x_L − x_R)/2` (σ_g the
+    /// geometry's `guidance_sign`) sees `η_d = σ_g·(∂h_L/∂d)·d/h0` and gives the net force
+    /// `F_y = 4·p0·x_d`: this plant with the force column doubled.
     pub fn guidance_pair(
         params: &Params,
         s: &Suspension,
         gains: &GapParams,
+        geometry: Geometry,
     ) -> Result<Self, String> {
-        let mut pl = Self::new(params, s, gains)?;
-        let ix = pl.a.nrows() - 3;
-        for i in 0..ix {
-            pl.a[(i, ix)] *= 2.0;
-        }
-        Ok(pl)
+        Self::with_body(
+            params,
+            s,
+            params.p0 / GRAVITY - s.magnet_mass,
+            gains,
+            geometry,
+            true,
+        )
+    }
+
+    /// One magnet's loop with an explicit body mass (kg): the levitation magnet
+    /// (`pair = false`, as [`GapLoopPlant::new`]) or a guidance pair's differential mode
+    /// (`pair = true`, as [`GapLoopPlant::guidance_pair`]).
+    pub fn with_body(
+        params: &Params,
+        s: &Suspension,
+        body_mass: f64,
+        gains: &GapParams,
+        geometry: Geometry,
+        pair: bool,
+    ) -> Result<Self, String> {
+        let (sign, gain) = if pair {
+            (
+                geometry.guidance_sign() * gap::guidance_gaps(0.0, 1.0).0,
+                2.0,
+            )
+        } else {
+            (geometry.levitation_sign(), 1.0)
+        };
+        let plant = Plant::with_body(params, s, body_mass, sign, gain)?;
+        Self::from_plant(params, plant, gains, sign)
     }
 
     /// Closed-loop poles (1/s), sorted by descending real part.
@@ -116,7 +155,7 @@ fn abscissa(params: &Params, s: &Suspension, kp: f64, kd: f64, tf: f64) -> f64 {
         tf,
         ..GapParams::designed()
     };
-    GapLoopPlant::new(params, s, &g).map_or(f64::INFINITY, |p| p.abscissa())
+    GapLoopPlant::new(params, s, &g, Geometry::Ems).map_or(f64::INFINITY, |p| p.abscissa())
 }
 
 /// Gains `(kp, kd)` minimising the spectral abscissa at filter `tf`, and that abscissa:

@@ -17,13 +17,17 @@
 //! Per-unit notation is the core's (`maglev_core::levitation`): `x = g/g0 − 1`,
 //! `y = KI·e_a/(R0·i0) − 1`, `η = h/h0 − 1`.
 
+pub mod design;
 pub mod discrete;
+pub mod eig;
 pub mod gap_loop;
 pub mod gauss;
 pub mod gloop;
+pub mod magnet;
 pub mod numerics;
 pub mod plant;
 pub mod schemes;
+pub mod vehicle;
 
 /// A complex number for reports (`re`, `im`), sorted by descending real part then imaginary.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -55,6 +59,14 @@ pub fn sorted_poles(ev: impl IntoIterator<Item = nalgebra::Complex<f64>>) -> Vec
     let mut out: Vec<Complex> = ev.into_iter().map(Complex::from).collect();
     sort_poles(&mut out);
     out
+}
+
+/// Eigenvalues of a general real matrix as sorted poles ([`sort_poles`]), by [`eig`] (with an
+/// iteration limit and exceptional shifts; an error if it does not converge).
+pub fn eigenvalues(a: &nalgebra::DMatrix<f64>) -> Result<Vec<Complex>, String> {
+    let mut p = eig::eigenvalues(a)?;
+    sort_poles(&mut p);
+    Ok(p)
 }
 
 #[cfg(test)]

@@ -6,20 +6,26 @@
 //! 10 kN·s/m) above a magnet of mass `m_m` (model.md §9 default 0); the magnet pulls itself
 //! up towards a rigid rail with `F = K0·g²` (Eq. 1). The magnet carries everything:
 //! `p0 = (m_b + m_m)·9.81`, so `m_b = p0/9.81 − m_m` (with `m_m = 0`, `m_b = p0/9.81`).
-//! Z is up; the gap is `h = h0 − z_m` (model.md §2 with `z_g = r = 0`), so `η = −z_m/h0`.
+//! Z is up; the gap is `h = h0 + σ·z_m` with `σ = Geometry::levitation_sign()` (model.md §2
+//! with `z_g = r = 0`: `σ = −1` for "ems", `+1` for "paper"), so `η = σ·z_m/h0`.
 //!
 //! # Linearisation about the static equilibrium
 //! `∂F/∂g = 2·K0·g0 = 2·p0/g0`, i.e. `ΔF = 2·p0·x` per unit of `x`. The force depends on the
-//! gap only through the coil (Eq. 9): `τ·ẋ = y − η − p·x`, `ẏ = −ki·x` (see [`super::gloop`]).
+//! gap only through the coil (Eq. 9): `τ·ẋ = y − η − p·x`, `ẏ = −ki·x` (see [`super::gloop`];
+//! the rows are written once, in [`super::magnet`]).
 //!
 //! ```text
 //! m_m·z̈_m = 2·p0·x − k·(z_m − z_b) − c·(ż_m − ż_b)
 //! m_b·z̈_b =          k·(z_m − z_b) + c·(ż_m − ż_b)
-//! τ·ẋ     = y + z_m/h0 − p·x,          ẏ = −ki·x
+//! τ·ẋ     = y − σ·z_m/h0 − p·x,          ẏ = −ki·x
 //! ```
 //!
 //! With `m_m = 0` the first line is an algebraic force balance that gives `ż_m` (needs
 //! `c > 0`) and the state drops to `(z_m, z_b, ż_b, x, y)`.
+//!
+//! The rest of this section is the EMS reading (`σ = −1`, the plant of issue 5 that
+//! `maglev stability` without `--scenario` still reports); under the paper's reading the same
+//! quarter vehicle is stable apart from the zero pole (docs/model.md §2, item 1).
 //!
 //! # What the law leaves of the gap mode
 //! The law regulates `g`, i.e. the force (`F = K0·g²` has no `h` in it), not the gap. Two
@@ -43,7 +49,9 @@
 //! the gap; a gap (position) loop would be needed for a free-flying vehicle.
 
 use super::gloop::Loop;
+use super::magnet::{self, Slots};
 use super::Complex;
+use maglev_core::gap::Geometry;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::Params;
 use nalgebra::DMatrix;
@@ -80,13 +88,11 @@ pub struct Plant {
 }
 
 impl Plant {
-    /// Builds the closed loop for `params` (only i0, h0, R0, KP, KI, p0 matter) and `s`.
-    pub fn new(params: &Params, s: &Suspension) -> Result<Self, String> {
-        let lp = Loop::new(params, 0.0);
+    /// Builds the closed loop for `params` (only i0, h0, R0, KP, KI, p0 matter), `s` and the
+    /// gap geometry (`h − h0 = levitation_sign·z_m`, docs/model.md §2); the magnet carries
+    /// everything, `m_b = p0/9.81 − m_m`.
+    pub fn new(params: &Params, s: &Suspension, geometry: Geometry) -> Result<Self, String> {
         let body_mass = params.p0 / GRAVITY - s.magnet_mass;
-        if !(s.magnet_mass >= 0.0 && s.magnet_mass.is_finite()) {
-            return Err("magnet mass must be finite and >= 0".into());
-        }
         if body_mass.is_nan() || body_mass <= 0.0 {
             return Err(format!(
                 "magnet mass {} kg leaves no body mass: p0/9.81 = {} kg",
@@ -94,24 +100,56 @@ impl Plant {
                 params.p0 / GRAVITY
             ));
         }
+        Self::with_body(params, s, body_mass, geometry.levitation_sign(), 1.0)
+    }
+
+    /// The same plant with an explicit body mass `m_b` (kg), gap `η = eta_per_m·z_m/h0` and
+    /// force change `force_gain·2·p0·x` (1 for a levitation magnet; 2 for the differential
+    /// mode of a guidance pair, [`super::gap_loop::GapLoopPlant::guidance_pair`]).
+    pub fn with_body(
+        params: &Params,
+        s: &Suspension,
+        body_mass: f64,
+        eta_per_m: f64,
+        force_gain: f64,
+    ) -> Result<Self, String> {
+        let lp = Loop::new(params, 0.0);
+        if !(s.magnet_mass >= 0.0 && s.magnet_mass.is_finite()) {
+            return Err("magnet mass must be finite and >= 0".into());
+        }
+        if !(body_mass > 0.0 && body_mass.is_finite()) {
+            return Err(format!("body mass must be positive, got {body_mass} kg"));
+        }
         if !(s.k > 0.0 && s.k.is_finite() && s.c >= 0.0 && s.c.is_finite()) {
             return Err("suspension needs k > 0 and c >= 0, finite".into());
         }
-        let (fx, h0) = (2.0 * params.p0, params.h0);
+        let fx = force_gain * 2.0 * params.p0;
         let (k, c, mb) = (s.k, s.c, body_mass);
-        let (tau, p, ki) = (lp.tau, lp.p, lp.ki);
+        let eta = [(0, eta_per_m / params.h0)];
         if s.magnet_mass > 0.0 {
             let mm = s.magnet_mass;
             // z_m, v_m, z_b, v_b, x, y
             #[rustfmt::skip]
-            let a = DMatrix::from_row_slice(6, 6, &[
+            let mut a = DMatrix::from_row_slice(6, 6, &[
                 0.0, 1.0, 0.0, 0.0, 0.0, 0.0,
                 -k / mm, -c / mm, k / mm, c / mm, fx / mm, 0.0,
                 0.0, 0.0, 0.0, 1.0, 0.0, 0.0,
                 k / mb, c / mb, -k / mb, -c / mb, 0.0, 0.0,
-                1.0 / (h0 * tau), 0.0, 0.0, 0.0, -p / tau, 1.0 / tau,
-                0.0, 0.0, 0.0, 0.0, -ki, 0.0,
+                0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
             ]);
+            magnet::write_rows(
+                &mut a,
+                Slots {
+                    x: 4,
+                    y: 5,
+                    q: None,
+                    delay: None,
+                },
+                &eta,
+                &lp,
+                None,
+            )?;
             Ok(Plant {
                 a,
                 states: &["z_m", "v_m", "z_b", "v_b", "x", "y"],
@@ -123,13 +161,25 @@ impl Plant {
             }
             // z_m, z_b, v_b, x, y;  ż_m = v_b + (2·p0·x − k(z_m − z_b))/c
             #[rustfmt::skip]
-            let a = DMatrix::from_row_slice(5, 5, &[
+            let mut a = DMatrix::from_row_slice(5, 5, &[
                 -k / c, k / c, 1.0, fx / c, 0.0,
                 0.0, 0.0, 1.0, 0.0, 0.0,
                 0.0, 0.0, 0.0, fx / mb, 0.0,
-                1.0 / (h0 * tau), 0.0, 0.0, -p / tau, 1.0 / tau,
-                0.0, 0.0, 0.0, -ki, 0.0,
+                0.0, 0.0, 0.0, 0.0, 0.0,
+                0.0, 0.0, 0.0, 0.0, 0.0,
             ]);
+            magnet::write_rows(
+                &mut a,
+                Slots {
+                    x: 3,
+                    y: 4,
+                    q: None,
+                    delay: None,
+                },
+                &eta,
+                &lp,
+                None,
+            )?;
             Ok(Plant {
                 a,
                 states: &["z_m", "z_b", "v_b", "x", "y"],

@@ -1,0 +1,96 @@
+//! One magnet's law, linearised, as rows of a closed-loop state matrix: the one place the
+//! analyses write Eq. 9–10 (with the gap loop's reference) in continuous time.
+//!
+//! Per unit (`x = g/g0 − 1`, `y = KI·e_a/(R0·i0) − 1`, `η = h/h0 − 1`, [`super::gloop`]), with
+//! the reference `x_ref` of the outer gap loop (`maglev_core::gap_control`, Eq. 8 with
+//! `e = g_ref − g`) and the outer loop's derivative filter state `q`:
+//!
+//! ```text
+//! τ·ẋ  = y − η − p·x + kpv·x_ref,      ẏ = ki·(x_ref − x),      p = 1 + kpv
+//! x_ref = kp·η + (kd/tf)·(η − q),      tf·q̇ = η − q             (gap loop; 0 and no q for
+//!                                                                 the paper's law)
+//! ```
+//!
+//! `η` is a linear function of the mechanical states (the caller gives its row, from the core's
+//! `maglev_core::gap` geometry). The magnet's force change is `ΔG = 2·p0·x` (Eq. 1 linearised,
+//! `G = p0·(1 + x)²`), which the caller adds to its force rows.
+
+use super::gloop::Loop;
+use maglev_core::gap_control::GapParams;
+use nalgebra::DMatrix;
+
+/// Where one magnet's states sit in the closed-loop state vector.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slots {
+    /// The flux deviation `x`.
+    pub x: usize,
+    /// The integral state `y`.
+    pub y: usize,
+    /// The gap loop's filter state `q` (gap loop only).
+    pub q: Option<usize>,
+    /// A first-order Padé delay `δ` (s) on the reference and its state `w` (gap loop only):
+    /// the inner law sees `x_ref,δ = 2·w − x_ref`, `(δ/2)·ẇ = x_ref − w`, i.e.
+    /// `x_ref·(1 − sδ/2)/(1 + sδ/2) ≈ x_ref·e^{−sδ}` — the sampled loop's hold (docs/gap-loop.md).
+    pub delay: Option<(usize, f64)>,
+}
+
+/// Writes the rows of `x`, `y` (and `q`) of one magnet into `a` (overwriting them): the law of
+/// `lp` on the gap `η = Σ eta[j]·state[j]`, alone (`gains = None`, the paper's Eq. 8–10) or
+/// under the gap loop (`gains`, `tf > 0` and a `q` slot required).
+pub fn write_rows(
+    a: &mut DMatrix<f64>,
+    at: Slots,
+    eta: &[(usize, f64)],
+    lp: &Loop,
+    gains: Option<&GapParams>,
+) -> Result<(), String> {
+    let n = a.ncols();
+    let mut eta_row = vec![0.0; n];
+    for &(j, e) in eta {
+        eta_row[j] += e;
+    }
+    // x_ref as a row over the state.
+    let mut r = vec![0.0; n];
+    match (gains, at.q) {
+        (None, _) => {}
+        (Some(g), Some(iq)) => {
+            if g.tf.is_nan() || g.tf <= 0.0 {
+                return Err("the gap loop's analysis needs a derivative filter tf > 0".into());
+            }
+            let kdf = g.kd / g.tf;
+            for (rj, ej) in r.iter_mut().zip(&eta_row) {
+                *rj = (g.kp + kdf) * ej;
+            }
+            r[iq] -= kdf;
+            for j in 0..n {
+                a[(iq, j)] = eta_row[j] / g.tf;
+            }
+            a[(iq, iq)] -= 1.0 / g.tf;
+        }
+        (Some(_), None) => return Err("internal: a gap-loop magnet needs a q slot".into()),
+    }
+    if let Some((iw, d)) = at.delay {
+        if gains.is_some() {
+            if d.is_nan() || d <= 0.0 {
+                return Err("the reference delay must be positive".into());
+            }
+            for j in 0..n {
+                a[(iw, j)] = 2.0 * r[j] / d;
+            }
+            a[(iw, iw)] -= 2.0 / d;
+            for rj in r.iter_mut() {
+                *rj = -*rj;
+            }
+            r[iw] += 2.0;
+        }
+    }
+    let kpv = lp.p - 1.0;
+    for j in 0..n {
+        a[(at.x, j)] = (kpv * r[j] - eta_row[j]) / lp.tau;
+        a[(at.y, j)] = lp.ki * r[j];
+    }
+    a[(at.x, at.x)] -= lp.p / lp.tau;
+    a[(at.x, at.y)] += 1.0 / lp.tau;
+    a[(at.y, at.x)] -= lp.ki;
+    Ok(())
+}

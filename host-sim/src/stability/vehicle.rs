@@ -1,0 +1,310 @@
+//! The scenario's own vehicle on a rigid rail, linearised with all its magnets: the closed-loop
+//! state matrix, its poles, the verdict and the critical magnet node mass (issue 8, item 5).
+//!
+//! # The system
+//! The vehicle is the scenario's [`VehicleModel`] (`M q̈ + C q̇ + K q = f`, deviations from
+//! static equilibrium, model.md §6). The rail is rigid and smooth (`z_g = y_g = r = 0`), so
+//! every gap is a function of the wheel node alone, through the core's geometry
+//! ([`Geometry`], model.md §2), linearised with the core's own derivatives:
+//!
+//! ```text
+//! levitation:  η_z = levitation_sign·z_w/h0
+//! guidance:    (h_L, h_R) = guidance_gaps(h0, d), d = y_w     → η_L = +y_w/h0, η_R = −y_w/h0
+//! forces:      f[z_w] = 2·p0·x_z,   f[y_w] = 2·p0·(∂F_y/∂G_L·x_L + ∂F_y/∂G_R·x_R)
+//! ```
+//!
+//! (`∂F_y/∂G_{L,R}` from `Geometry::guidance_force`; `G = p0·(1 + x)²`, Eq. 1.) Every magnet —
+//! each wheel's levitation magnet and both of its guidance magnets — runs its own law, the rows
+//! of [`super::magnet`] (Eq. 9–10 in continuous time, states `x`, `y`; plus the gap loop's
+//! filter state `q` under `law = gap-loop`), with `p0` the wheel's static load.
+//!
+//! # Massless nodes
+//! A DOF whose mass row is zero (a wheel node with `wheel_mass_kg = 0`) has no inertia: its
+//! equation `C_zz·q̇_z + C_za·q̇_a + K_z·q = f_z` is a first-order one. It is eliminated as an
+//! index-1 constraint: `q̇_z = C_zz⁻¹·(f_z − K_z·q − C_za·v_a)` (needs `C_zz` regular: every
+//! massless node needs a damper), substituted into the massive rows
+//! `M_aa·v̇_a = f_a − K_a·q − C_aa·v_a − C_az·q̇_z`. The state is then `(q, v_a, magnets)`: all
+//! displacements, the velocities of the DOFs with mass, and the magnets' states. With masses
+//! on every node it is the usual `(q, q̇, magnets)`.
+//!
+//! # Zero poles
+//! The paper's law holds `g`, hence the force, not the gap: wherever the vehicle stands with
+//! its springs unstretched, every magnet carrying its `p0` (`x = 0`, `y = η`) is an
+//! equilibrium. So each rigid-body motion of the vehicle (for Fig. 1: `v, w, θx, θy, θz`, 5)
+//! gives a pole at exactly 0. They are counted (|s| < [`ZERO_POLE`]) and left out of the
+//! verdict. Under the gap loop the equilibrium needs `x_ref = x = 0`, i.e. `η = 0`: no zero
+//! pole.
+
+use super::gloop::Loop;
+use super::magnet::{self, Slots};
+use super::Complex;
+use crate::simulation::Law;
+use crate::vehicle::{Fig1, VehicleModel};
+use maglev_core::gap::{self, Geometry};
+use maglev_core::levitation::GRAVITY;
+use maglev_core::Params;
+use nalgebra::DMatrix;
+
+/// Poles with a modulus below this (1/s) count as zero poles.
+pub const ZERO_POLE: f64 = 1e-6;
+
+/// The linearised closed loop of a vehicle and all its magnets.
+#[derive(Clone, Debug)]
+pub struct VehiclePlant {
+    /// State matrix.
+    pub a: DMatrix<f64>,
+    /// Names of the states, in order (`q[i]` vehicle DOF i, `v[i]` its velocity, `lev1.x`,
+    /// `guideL1.y`, … per wheel).
+    pub states: Vec<String>,
+}
+
+/// Poles and what they say.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Verdict {
+    /// Every pole, sorted by descending real part (1/s).
+    pub poles: Vec<Complex>,
+    /// Poles with |s| < [`ZERO_POLE`].
+    pub zero_poles: usize,
+    /// Largest real part among the other poles (1/s).
+    pub max_real_part: f64,
+    /// `max_real_part < 0`.
+    pub stable: bool,
+}
+
+impl Verdict {
+    /// Classifies `poles` (sorted).
+    pub fn of(poles: Vec<Complex>) -> Self {
+        let zero_poles = poles.iter().filter(|p| p.abs() < ZERO_POLE).count();
+        let max_real_part = poles
+            .iter()
+            .filter(|p| p.abs() >= ZERO_POLE)
+            .map(|p| p.re)
+            .fold(f64::NEG_INFINITY, f64::max);
+        Verdict {
+            poles,
+            zero_poles,
+            max_real_part,
+            stable: max_real_part < 0.0,
+        }
+    }
+}
+
+/// Rows `idx` and columns `jdx` of `m`.
+fn sub(m: &DMatrix<f64>, idx: &[usize], jdx: &[usize]) -> DMatrix<f64> {
+    DMatrix::from_fn(idx.len(), jdx.len(), |i, j| m[(idx[i], jdx[j])])
+}
+
+impl VehiclePlant {
+    /// Linearises vehicle `v` with the inner law `inner` (its `p0` replaced by each wheel's
+    /// static load), the levitation `law` on every magnet and the `geometry` (module docs).
+    pub fn new(
+        v: &VehicleModel,
+        inner: &Params,
+        law: &Law,
+        geometry: Geometry,
+    ) -> Result<Self, String> {
+        Self::sampled(v, inner, law, geometry, None)
+    }
+
+    /// As [`VehiclePlant::new`], with the gap loop's reference delayed by `delay` (s, a
+    /// first-order Padé, [`super::magnet::Slots::delay`]): the sampled loop's hold, for the
+    /// design. Ignored under the paper's law.
+    pub fn sampled(
+        v: &VehicleModel,
+        inner: &Params,
+        law: &Law,
+        geometry: Geometry,
+        delay: Option<f64>,
+    ) -> Result<Self, String> {
+        let n = v.m.nrows();
+        if v.m.ncols() != n || v.c.shape() != (n, n) || v.k.shape() != (n, n) {
+            return Err("internal: vehicle matrices are not square and of one size".into());
+        }
+        if v.p0.len() != v.wheels.len() {
+            return Err("internal: one static load per wheel expected".into());
+        }
+        let massive: Vec<usize> = (0..n)
+            .filter(|&i| v.m.row(i).iter().any(|&x| x != 0.0))
+            .collect();
+        let massless: Vec<usize> = (0..n).filter(|i| !massive.contains(i)).collect();
+        if massless
+            .iter()
+            .any(|&j| massive.iter().any(|&i| v.m[(i, j)] != 0.0))
+        {
+            return Err("internal: the mass matrix couples a massless DOF".into());
+        }
+        let (na, nz) = (massive.len(), massless.len());
+        let m_inv = sub(&v.m, &massive, &massive)
+            .cholesky()
+            .ok_or("the vehicle's mass matrix (DOFs with mass) is not positive definite")?
+            .inverse();
+        let cz_inv = if nz > 0 {
+            sub(&v.c, &massless, &massless).try_inverse().ok_or(
+                "a massless vehicle node needs a damper (the damping of the massless DOFs is singular)",
+            )?
+        } else {
+            DMatrix::zeros(0, 0)
+        };
+
+        // State layout: q (n), v_a (na), then per wheel: lev, guide L, guide R magnets.
+        let gains = match law {
+            Law::Paper => None,
+            Law::GapLoop(g) => {
+                g.validate().map_err(|e| e.to_string())?;
+                Some(g)
+            }
+        };
+        let delay = delay.filter(|_| gains.is_some());
+        let per = 2 + usize::from(gains.is_some()) + usize::from(delay.is_some());
+        let nm = n + na;
+        let ns = nm + 3 * per * v.wheels.len();
+        let mut states: Vec<String> = (0..n).map(|i| format!("q[{i}]")).collect();
+        states.extend(massive.iter().map(|i| format!("v[{i}]")));
+        let slot = |w: usize, k: usize| {
+            let base = nm + per * (3 * w + k);
+            Slots {
+                x: base,
+                y: base + 1,
+                q: gains.map(|_| base + 2),
+                delay: delay.map(|d| (base + 3, d)),
+            }
+        };
+
+        // The core's geometry, differentiated: gaps per metre, lateral force per unit force.
+        let dh_dz = geometry.levitation_sign();
+        let (hl, hr) = gap::guidance_gaps(0.0, 1.0);
+        let (dfy_dl, dfy_dr) = (
+            geometry.guidance_force(1.0, 0.0),
+            geometry.guidance_force(0.0, 1.0),
+        );
+
+        // Force map f = F·s and the magnets' rows.
+        let mut f = DMatrix::zeros(n, ns);
+        let mut a = DMatrix::zeros(ns, ns);
+        for (w, (wh, &p0)) in v.wheels.iter().zip(&v.p0).enumerate() {
+            let mut p = *inner;
+            p.p0 = p0;
+            p.validate().map_err(|e| format!("wheel {}: {e}", w + 1))?;
+            let lp = Loop::new(&p, 0.0);
+            let h0 = p.h0;
+            let magnets = [
+                ("lev", wh.dof_z, dh_dz, 1.0, wh.dof_z),
+                ("guideL", wh.dof_y, hl, dfy_dl, wh.dof_y),
+                ("guideR", wh.dof_y, hr, dfy_dr, wh.dof_y),
+            ];
+            for (k, (name, gap_dof, dh, df, force_dof)) in magnets.into_iter().enumerate() {
+                let at = slot(w, k);
+                magnet::write_rows(&mut a, at, &[(gap_dof, dh / h0)], &lp, gains)?;
+                f[(force_dof, at.x)] += df * 2.0 * p0;
+                states.push(format!("{name}{}.x", w + 1));
+                states.push(format!("{name}{}.y", w + 1));
+                if at.q.is_some() {
+                    states.push(format!("{name}{}.q", w + 1));
+                }
+                if at.delay.is_some() {
+                    states.push(format!("{name}{}.w", w + 1));
+                }
+            }
+        }
+
+        // Mechanical rows (module docs): q̇_a = v_a, q̇_z = C_zz⁻¹(f_z − K_z q − C_za v_a),
+        // v̇_a = M_aa⁻¹(f_a − K_a q − C_aa v_a − C_az q̇_z).
+        let mut kq = DMatrix::zeros(n, ns); // K·q as a map of the state
+        kq.columns_mut(0, n).copy_from(&v.k);
+        let mut cv = DMatrix::zeros(n, ns); // C restricted to the massive velocities
+        for (ia, &i) in massive.iter().enumerate() {
+            cv.column_mut(n + ia).copy_from(&v.c.column(i));
+        }
+        let rhs = &f - &kq - &cv; // f − K q − C_{·a} v_a, over every DOF
+        let qz_dot = &cz_inv * sub(&rhs, &massless, &(0..ns).collect::<Vec<_>>());
+        let c_az = sub(&v.c, &massive, &massless);
+        let va_dot = &m_inv * (sub(&rhs, &massive, &(0..ns).collect::<Vec<_>>()) - &c_az * &qz_dot);
+        for (ia, &i) in massive.iter().enumerate() {
+            a[(i, n + ia)] = 1.0;
+            a.row_mut(n + ia).copy_from(&va_dot.row(ia));
+        }
+        for (iz, &i) in massless.iter().enumerate() {
+            a.row_mut(i).copy_from(&qz_dot.row(iz));
+        }
+        Ok(VehiclePlant { a, states })
+    }
+
+    /// Closed-loop poles (1/s), sorted by descending real part ([`super::eigenvalues`]).
+    pub fn poles(&self) -> Result<Vec<Complex>, String> {
+        super::eigenvalues(&self.a)
+    }
+
+    /// The poles classified ([`Verdict::of`]).
+    pub fn verdict(&self) -> Result<Verdict, String> {
+        Ok(Verdict::of(self.poles()?))
+    }
+}
+
+/// The Fig. 1 vehicle `fig` with every wheel node's mass set to `mass` (kg), linearised.
+pub fn fig1_with_mass(
+    fig: &Fig1,
+    mass: f64,
+    inner: &Params,
+    law: &Law,
+    geometry: Geometry,
+) -> Result<VehiclePlant, String> {
+    let fig = Fig1 {
+        wheel_mass: mass,
+        ..fig.clone()
+    };
+    VehiclePlant::new(&VehicleModel::fig1(&fig, GRAVITY), inner, law, geometry)
+}
+
+/// Upper end of the critical-mass search (kg).
+pub const MASS_SEARCH_MAX: f64 = 10e3;
+
+/// The smallest magnet (wheel) node mass in `[fig.wheel_mass, 10 t]` at which the vehicle of
+/// `fig` with `law` and `geometry` is unstable, or `None` if it is stable on the whole range.
+///
+/// Method: the verdict on a grid — the scenario's own mass, then 400 log-spaced masses from
+/// 1 kg (or the scenario's mass if larger) to 10 t, a step of 2.3 % — brackets the first
+/// unstable mass; bisection on the verdict then narrows the bracket to 1e-3 kg (or 1e-6
+/// relative). An unstable window narrower than one grid step (2.3 %) could be missed. If the
+/// scenario's own mass is unstable, that mass is returned.
+pub fn critical_magnet_mass(
+    fig: &Fig1,
+    inner: &Params,
+    law: &Law,
+    geometry: Geometry,
+) -> Result<Option<f64>, String> {
+    let unstable = |m: f64| -> Result<bool, String> {
+        Ok(!fig1_with_mass(fig, m, inner, law, geometry)?
+            .verdict()?
+            .stable)
+    };
+    let m0 = fig.wheel_mass;
+    if unstable(m0)? {
+        return Ok(Some(m0));
+    }
+    let lo = m0.max(1.0);
+    if lo >= MASS_SEARCH_MAX {
+        return Ok(None);
+    }
+    const N: usize = 400;
+    let mut prev = m0;
+    for i in 0..=N {
+        let m = lo * (MASS_SEARCH_MAX / lo).powf(i as f64 / N as f64);
+        if unstable(m)? {
+            let (mut a, mut b) = (prev, m);
+            while b - a > 1e-3_f64.max(1e-6 * b) {
+                let mid = 0.5 * (a + b);
+                if unstable(mid)? {
+                    b = mid;
+                } else {
+                    a = mid;
+                }
+            }
+            return Ok(Some(b));
+        }
+        prev = m;
+    }
+    Ok(None)
+}
+
+#[cfg(test)]
+mod tests;
