@@ -199,28 +199,31 @@ pub fn run_scenario(
     Ok((outcome, start.elapsed().as_secs_f64()))
 }
 
-impl Passage {
-    /// What the case offers to probe.
-    pub fn extent(&self) -> Extent {
-        match &self.load {
-            Load::Vehicle(v) => Extent {
-                spans: self.settings.midspans.len(),
+/// The scenario's probes (`[output] probes`, else the default columns), checked against it.
+pub fn probes(sc: &Scenario) -> Result<Probes, String> {
+    let spans = sc.bridge.spans_m.len();
+    let extent = match &sc.vehicle {
+        VehicleSection::Fig1 { .. } => {
+            let v = VehicleModel::fig1(&sc.fig1()?, maglev_core::levitation::GRAVITY);
+            Extent {
+                spans,
                 wheels: v.wheels.len(),
                 cars: v.cars.len(),
                 magnets: true,
-            },
-            Load::Forces(f) => Extent {
-                spans: self.settings.midspans.len(),
-                wheels: f.len(),
-                cars: 0,
-                magnets: false,
-            },
+            }
         }
-    }
-}
-
-/// The scenario's probes (`[output] probes`, else the default columns), checked against it.
-pub fn probes(sc: &Scenario) -> Result<Probes, String> {
-    let p = Passage::new(sc)?;
-    Probes::new(sc.output.as_ref().map(|o| o.probes.as_slice()), &p.extent())
+        VehicleSection::Forces { .. } => Extent {
+            spans,
+            wheels: sc.forces()?.len(),
+            cars: 0,
+            magnets: false,
+        },
+        VehicleSection::MovingForce { .. } => Extent {
+            spans,
+            wheels: 1,
+            cars: 0,
+            magnets: false,
+        },
+    };
+    Probes::new(sc.output.as_ref().map(|o| o.probes.as_slice()), &extent)
 }
