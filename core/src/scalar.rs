@@ -44,6 +44,11 @@ pub trait Scalar: Copy + PartialOrd + PartialEq + Default + Debug + 'static {
     fn from_f64(x: f64, overflow: &mut bool) -> Self;
     /// Exact for every type except `f64 -> f64` being the identity; fixed point converts exactly.
     fn to_f64(self) -> f64;
+    /// `self.to_f64() as f32` (one rounding), without going through `f64`: on a Cortex-M4F
+    /// `f64` is software, and the firmware converts every coil voltage per tick.
+    fn to_f32(self) -> f32;
+    /// `code / 2^bits`, exactly (`bits ≤ 16`; an ADC code as a fraction of full scale).
+    fn from_code(code: u16, bits: u8) -> Self;
     /// Saturating addition.
     fn sadd(self, rhs: Self, overflow: &mut bool) -> Self;
     /// Saturating subtraction.
@@ -149,6 +154,15 @@ macro_rules! float_scalar {
                 self as f64
             }
             #[inline]
+            fn to_f32(self) -> f32 {
+                self as f32
+            }
+            #[inline]
+            fn from_code(code: u16, bits: u8) -> Self {
+                // Both factors and the product are exact (16 significant bits at most).
+                code as $t * (1.0 / (1u32 << bits.min(16)) as $t)
+            }
+            #[inline]
             fn sadd(self, rhs: Self, overflow: &mut bool) -> Self {
                 Self::finite(self + rhs, overflow)
             }
@@ -247,7 +261,11 @@ macro_rules! fixed_scalar {
             }
             #[inline]
             fn mul_raw(self, rhs: Self) -> Self {
-                <$t>::from_bits(<$bits as RoundedProduct>::raw_product(self.to_bits(), rhs.to_bits(), $frac))
+                <$t>::from_bits(<$bits as RoundedProduct>::raw_product(
+                    self.to_bits(),
+                    rhs.to_bits(),
+                    $frac,
+                ))
             }
             #[inline]
             fn div_raw(self, rhs: Self) -> Self {
@@ -281,7 +299,19 @@ macro_rules! fixed_scalar {
             }
             #[inline]
             fn to_f64(self) -> f64 {
-                self.to_bits() as f64 / ((1u64 << $frac) as f64)
+                // Exact: the integer fits f64's mantissa for I4F28; scaling by 2^-frac is exact.
+                self.to_bits() as f64 * (1.0 / ((1u64 << $frac) as f64))
+            }
+            #[inline]
+            fn to_f32(self) -> f32 {
+                // One rounding (integer to f32), then an exact power-of-two scaling: the same
+                // value as rounding `to_f64()` to f32.
+                self.to_bits() as f32 * (1.0 / ((1u64 << $frac) as f32))
+            }
+            #[inline]
+            fn from_code(code: u16, bits: u8) -> Self {
+                let bits = bits.min(16) as u32;
+                <$t>::from_bits((code as $bits) << ($frac - bits))
             }
             #[inline]
             fn sadd(self, rhs: Self, overflow: &mut bool) -> Self {
@@ -493,8 +523,25 @@ mod tests {
 
     #[test]
     fn thumb1_wide_product_is_the_exact_product() {
-        let edge = [0, 1, -1, 2, -2, 0x7fff, 0x8000, 0xffff, 0x1_0000, -0x8000, -0x1_0000,
-            i32::MAX, i32::MIN, i32::MAX - 1, i32::MIN + 1, 0x1234_5678, -0x1234_5678];
+        let edge = [
+            0,
+            1,
+            -1,
+            2,
+            -2,
+            0x7fff,
+            0x8000,
+            0xffff,
+            0x1_0000,
+            -0x8000,
+            -0x1_0000,
+            i32::MAX,
+            i32::MIN,
+            i32::MAX - 1,
+            i32::MIN + 1,
+            0x1234_5678,
+            -0x1234_5678,
+        ];
         for &a in &edge {
             for &b in &edge {
                 assert_eq!(mul_wide_i32(a, b), a as i64 * b as i64, "{a} * {b}");
@@ -515,8 +562,24 @@ mod tests {
     fn bounded_q28_product_is_the_rounded_product() {
         let max = (RAW_OPERAND_MAX * (1u64 << 28) as f64) as i32;
         let exact = |a: i32, b: i32| ((a as i64 * b as i64 + (1 << 27)) >> 28) as i32;
-        let edge = [0, 1, -1, 0x7fff, 0x8000, 0xffff, 0x1_0000, -0x8000, -0x1_0000, max,
-            -max, max - 1, 1 << 28, -(1 << 28), 0x0123_4567, -0x0123_4567];
+        let edge = [
+            0,
+            1,
+            -1,
+            0x7fff,
+            0x8000,
+            0xffff,
+            0x1_0000,
+            -0x8000,
+            -0x1_0000,
+            max,
+            -max,
+            max - 1,
+            1 << 28,
+            -(1 << 28),
+            0x0123_4567,
+            -0x0123_4567,
+        ];
         for &a in &edge {
             for &b in &edge {
                 assert_eq!(q28_product_bounded(a, b), exact(a, b), "{a} * {b}");
@@ -536,16 +599,64 @@ mod tests {
     #[test]
     fn positive_up_to_is_the_open_closed_interval() {
         let hi = 2.5f32;
-        for (x, want) in [(0.0f32, false), (-0.0, false), (1e-45, true), (2.5, true),
-            (2.5000002, false), (-1.0, false), (f32::NAN, false), (f32::INFINITY, false)] {
+        for (x, want) in [
+            (0.0f32, false),
+            (-0.0, false),
+            (1e-45, true),
+            (2.5, true),
+            (2.5000002, false),
+            (-1.0, false),
+            (f32::NAN, false),
+            (f32::INFINITY, false),
+        ] {
             assert_eq!(x.positive_up_to(hi), want, "{x}");
         }
         let mut ov = false;
         let h = I4F28::from_f64(2.5, &mut ov);
-        for (x, want) in [(0.0, false), (-1.0, false), (1e-8, true), (2.5, true), (2.6, false)] {
+        for (x, want) in [
+            (0.0, false),
+            (-1.0, false),
+            (1e-8, true),
+            (2.5, true),
+            (2.6, false),
+        ] {
             assert_eq!(I4F28::from_f64(x, &mut ov).positive_up_to(h), want, "{x}");
         }
         assert!(!I4F28::MIN.positive_up_to(h) && I4F28::from_bits(1).positive_up_to(h));
+    }
+
+    #[test]
+    fn to_f32_and_from_code_are_the_f64_conversions() {
+        fn check<S: Scalar>() {
+            let mut ov = false;
+            for x in [0.0, 1.0, -1.0, 0.1, -2.75, 3.0e-3, 7.999, -7.5, 1.0 / 3.0] {
+                let s = S::from_f64(x, &mut ov);
+                assert_eq!(s.to_f32().to_bits(), (s.to_f64() as f32).to_bits(), "{x}");
+            }
+            for bits in [2u8, 12, 16] {
+                for code in [0u16, 1, 2, 3, 1000, u16::MAX] {
+                    let code = code & ((1u32 << bits) - 1) as u16;
+                    let want = S::from_f64(code as f64 / (1u32 << bits) as f64, &mut ov);
+                    assert_eq!(S::from_code(code, bits), want, "{code}/2^{bits}");
+                }
+            }
+            assert!(!ov);
+        }
+        check::<f64>();
+        check::<f32>();
+        check::<I32F32>();
+        check::<I4F28>();
+        // Integers beyond f32's mantissa round once, as through f64.
+        for b in [
+            0x0123_4567,
+            -0x0765_4321,
+            i32::MAX,
+            i32::MIN,
+            0x00ff_ffff + 2,
+        ] {
+            let s = I4F28::from_bits(b);
+            assert_eq!(s.to_f32().to_bits(), (s.to_f64() as f32).to_bits(), "{b}");
+        }
     }
 
     #[test]

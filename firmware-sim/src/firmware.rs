@@ -40,11 +40,11 @@ use crate::protocol::{
     ChannelOut, Config, ConfigFault, ConfigKey, LawConfig, Problem, MAX_CHANNELS,
 };
 use crate::supervision::{check, Event, Limits, Mode, SensorState};
+use crate::validate::{check_config, law_fault};
 use embedded_hal::pwm::SetDutyCycle;
 use embedded_hal::spi::SpiDevice;
 use heapless::Vec;
 use maglev_core::gap_control::{GapLoop, GapParams, GapState};
-use crate::validate::{check_config, law_fault};
 use maglev_core::{Interpolation, Levitation, Params, Scalar, Status};
 
 /// One channel's state.
@@ -80,7 +80,7 @@ pub struct Firmware<S, SPI, PWM> {
     /// `h/h0` of code 0, and of the full 2^bits span.
     gap_offset: S,
     gap_span: S,
-    code_scale: f64,
+    adc_bits: u8,
     full_scale: u16,
     /// `V_b / V_dc`: per-unit voltage to a fraction of the DC link.
     v_to_frac: f32,
@@ -195,7 +195,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
             outer,
             gap_offset,
             gap_span,
-            code_scale: 1.0 / (1u32 << cfg.adc_bits) as f64,
+            adc_bits: cfg.adc_bits,
             full_scale,
             v_to_frac: (cfg.r0 * cfg.i0 / cfg.v_dc) as f32,
             delay: cfg.delay,
@@ -238,10 +238,10 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         }
     }
 
-    /// Per-unit gap `h/h0` of a code.
+    /// Per-unit gap `h/h0` of a code (no `f64`: software floating point on the targets).
     fn gap_pu(&self, code: u16) -> S {
         let mut ov = false;
-        let frac = S::from_f64(code as f64 * self.code_scale, &mut ov);
+        let frac = S::from_code(code, self.adc_bits);
         self.gap_offset
             .sadd(frac.smul(self.gap_span, &mut ov), &mut ov)
     }
@@ -249,7 +249,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
     /// Quantises a per-unit voltage to a duty and writes it; returns whether it clipped.
     fn apply(&mut self, k: usize, v: S) -> bool {
         let max = self.pwm[k].max_duty_cycle();
-        let (duty, clipped) = duty_for(v.to_f64() as f32 * self.v_to_frac, max);
+        let (duty, clipped) = duty_for(v.to_f32() * self.v_to_frac, max);
         let _ = self.pwm[k].set_duty_cycle(duty);
         self.st.ch[k].duty = duty;
         clipped

@@ -261,7 +261,9 @@ impl ConfigKey {
             Alpha => "0..=1",
             VMax => "a number > 0 (inf for none)",
             GapLoop => "finite gains ≥ 0, x_ref_max > 0",
-            Gap => "finite, inside the sensor's range (adc_offset, adc_offset + 2^adc_bits·adc_lsb)",
+            Gap => {
+                "finite, inside the sensor's range (adc_offset, adc_offset + 2^adc_bits·adc_lsb)"
+            }
             AdcBits => "2..=16",
             AdcOffset => "finite, with the sensor range representable in units of h0",
             PwmBits => "1..=16",

@@ -17,8 +17,8 @@ use crate::adc::AdcChip;
 use crate::firmware::{Firmware, FwState};
 use crate::hbridge::HBridge;
 use crate::protocol::{
-    self, Config, ConfigFault, Envelope, FrameReader, Nack, Reply, Request, Response,
-    ScalarKind, MAX_FRAME, VERSION,
+    self, Config, ConfigFault, Envelope, FrameReader, Nack, Reply, Request, Response, ScalarKind,
+    MAX_FRAME, VERSION,
 };
 use heapless::Vec;
 use maglev_core::scalar::I4F28;

@@ -8,9 +8,7 @@
 //! core when the firmware compiles them; [`law_fault`] names the value a
 //! [`maglev_core::ParamError`] is about.
 
-use crate::protocol::{
-    Config, ConfigFault, ConfigKey, Problem, MAX_CHANNELS, MAX_SAMPLES,
-};
+use crate::protocol::{Config, ConfigFault, ConfigKey, Problem, MAX_CHANNELS, MAX_SAMPLES};
 use core::ops::RangeInclusive;
 use maglev_core::ParamError;
 

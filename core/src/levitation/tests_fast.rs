@@ -1,5 +1,6 @@
 //! The `n_sub = 1` fast path against the general path, the division-free quotient of fixed
 //! point against the exact one, and the SI / initial-state guards.
+extern crate std;
 use super::*;
 use crate::scalar::{I32F32, I4F28};
 
@@ -68,7 +69,11 @@ fn fast_equals_general<S: Scalar>(dt: f64, seed: u64) -> usize {
         match ctrl.fast_update(&mut st, h) {
             Some(out) => {
                 taken += 1;
-                assert!(out.status.is_empty(), "{}: fast path raised an event", S::NAME);
+                assert!(
+                    out.status.is_empty(),
+                    "{}: fast path raised an event",
+                    S::NAME
+                );
                 assert_eq!(
                     bits(&st, &out),
                     bits(&st_general, &general),
@@ -97,7 +102,10 @@ fn fast_path_is_bit_identical_to_the_general_path() {
         ] {
             // Half the cases are ordinary (small state; gap within 0.6..1.4 h0 five times in
             // seven, 36 % of all): the fast path must take most of those.
-            assert!(taken > 4_000, "{name} dt={dt}: fast path taken {taken} times");
+            assert!(
+                taken > 4_000,
+                "{name} dt={dt}: fast path taken {taken} times"
+            );
         }
     }
 }
@@ -137,7 +145,11 @@ fn division_free_matches_the_quotient<S: Scalar>(dt: f64, lsb_per_unit_num: f64)
         let exact = c * num / (1.0 + ca1 + ca * ef);
         let err = ((x1.to_f64() - xf) - exact).abs() / S::RESOLUTION;
         let allowed = 2.0 + lsb_per_unit_num * num.abs();
-        assert!(err <= allowed, "{}: {err} LSB > {allowed} at η = {ef}", S::NAME);
+        assert!(
+            err <= allowed,
+            "{}: {err} LSB > {allowed} at η = {ef}",
+            S::NAME
+        );
         worst = worst.max(err);
     }
     worst
@@ -180,13 +192,67 @@ fn bad_initial_gaps_are_refused_by_name() {
     let p = Params::paper_wheel(1e-3);
     let f = p.compile::<f64>().unwrap();
     let q = p.compile::<I4F28>().unwrap();
-    assert_eq!(f.try_initial_state(f64::NAN), Err(ParamError::NotFinite("h")));
-    assert_eq!(q.try_initial_state(f64::INFINITY), Err(ParamError::NotFinite("h")));
-    assert_eq!(f.try_equilibrium_state(0.0), Err(ParamError::NotPositive("h")));
+    assert_eq!(
+        f.try_initial_state(f64::NAN),
+        Err(ParamError::NotFinite("h"))
+    );
+    assert_eq!(
+        q.try_initial_state(f64::INFINITY),
+        Err(ParamError::NotFinite("h"))
+    );
+    assert_eq!(
+        f.try_equilibrium_state(0.0),
+        Err(ParamError::NotPositive("h"))
+    );
     assert!(matches!(
         q.try_equilibrium_state(1.0),
         Err(ParamError::Unrepresentable { name: "h", .. })
     ));
     assert_eq!(q.try_initial_state(0.012), Ok(q.initial_state(0.012)));
-    assert_eq!(f.try_equilibrium_state(0.009), Ok(f.equilibrium_state(0.009)));
+    assert_eq!(
+        f.try_equilibrium_state(0.009),
+        Ok(f.equilibrium_state(0.009))
+    );
+}
+
+/// `n_sub = 1` (the firmware's law, which takes the fast path) against f64 over 1 s of a
+/// 1 mm gap step followed by a 1 mm, 5 Hz sine, within the budgets that
+/// `tests/tests/control_vs_reference.rs` sets at `n_sub = 10` (fractions of p0).
+fn agreement_n1<S: Scalar>(dt: f64) -> f64 {
+    let p = Params::paper_wheel(dt);
+    let exact = p.compile::<f64>().unwrap();
+    let typed = p.compile::<S>().unwrap();
+    let (mut se, mut st) = (exact.initial_state(p.h0), typed.initial_state(p.h0));
+    let steps = (1.0 / dt).round() as usize;
+    let mut worst = 0.0f64;
+    for k in 1..=steps {
+        let t = k as f64 * dt;
+        let h = if t < 0.5 {
+            0.009
+        } else {
+            0.01 + 0.001 * libm::sin(2.0 * core::f64::consts::PI * 5.0 * t)
+        };
+        let mut ov = false;
+        let fe = exact.to_si(&exact.update(&mut se, h / p.h0)).force;
+        let ft = typed
+            .to_si(&typed.update(&mut st, typed.gap_pu(h, &mut ov)))
+            .force;
+        worst = worst.max((fe - ft).abs() / p.p0);
+    }
+    worst
+}
+
+#[test]
+fn n_sub_one_agrees_with_f64_within_the_budgets() {
+    for dt in [1e-3, 1e-4] {
+        let (a, b, c) = (
+            agreement_n1::<I32F32>(dt),
+            agreement_n1::<I4F28>(dt),
+            agreement_n1::<f32>(dt),
+        );
+        assert!(a <= 4e-6, "i32f32 dt={dt}: {a:e}");
+        assert!(b <= 3e-5, "i4f28 dt={dt}: {b:e}");
+        assert!(c <= 1e-5, "f32 dt={dt}: {c:e}");
+        std::println!("n_sub=1 dt={dt}: |ΔF|/p0 i32f32 {a:e}, i4f28 {b:e}, f32 {c:e}");
+    }
 }

@@ -129,7 +129,9 @@ impl HilSettings {
             _ => return Err(format!("unknown firmware key `{key}`")),
         }
         match self.check(key) {
-            Some(limit) => Err(format!("--set {key}={value}: out of range (accepted: {limit})")),
+            Some(limit) => Err(format!(
+                "--set {key}={value}: out of range (accepted: {limit})"
+            )),
             None => Ok(()),
         }
     }
