@@ -44,6 +44,13 @@
 //! * Parabolic interpolation needs `h^{t−Δt}`; before the first step the gap is taken to
 //!   have been constant.
 //!
+//! # Cost on small cores (docs/hil.md, "Instruction budget")
+//! * `n_sub = 1`, paper scheme, no voltage bound (the firmware's law): [`Levitation::update`]
+//!   first runs a straight-line path with one check per update instead of one per operation;
+//!   it gives the general path's bits exactly or declines.
+//! * Fixed point evaluates the quotient of Eq. 14 division-free, `c·N/den ≈ N·(cr − cru·η)`
+//!   ([`Params`]' `reciprocal`, exact to about one LSB of I4F28); floats keep the division.
+//!
 //! # Two schemes ([`Scheme`])
 //! [`Scheme::Paper`] (the default) is Eq. 14 applied `n_sub` times per outer step, as above: a
 //! first-order method for the coil + PI equations (docs/numerics.md). [`Scheme::Accurate`]
@@ -713,7 +720,7 @@ impl<S: Scalar> Levitation<S> {
     /// [`accurate`]. Never panics; every anomaly is reported in [`Output::status`].
     ///
     /// With `n_sub = 1` under the paper's scheme and no voltage bound (the firmware's law) it runs
-    /// [`Levitation::fast_update`] first, which gives the same bits or declines.
+    /// a straight-line fast path (`fast_update`) first, which gives the same bits or declines.
     #[inline]
     pub fn update(&self, st: &mut State<S>, h_next: S) -> Output<S> {
         if let Some(out) = self.fast_update(st, h_next) {
