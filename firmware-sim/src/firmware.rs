@@ -36,13 +36,16 @@
 
 use crate::adc::read_channel;
 use crate::hbridge::duty_for;
-use crate::protocol::{ChannelOut, Config, LawConfig, MAX_CHANNELS};
+use crate::protocol::{
+    ChannelOut, Config, ConfigFault, ConfigKey, LawConfig, Problem, MAX_CHANNELS,
+};
 use crate::supervision::{check, Event, Limits, Mode, SensorState};
+use crate::validate::{check_config, law_fault};
 use embedded_hal::pwm::SetDutyCycle;
 use embedded_hal::spi::SpiDevice;
 use heapless::Vec;
 use maglev_core::gap_control::{GapLoop, GapParams, GapState};
-use maglev_core::{Interpolation, Levitation, ParamError, Params, Scalar, Status};
+use maglev_core::{Interpolation, Levitation, Params, Scalar, Status};
 
 /// One channel's state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -66,14 +69,6 @@ pub struct FwState<S> {
     pub tick: u64,
 }
 
-/// Why a configuration was refused.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ConfigError {
-    Law(ParamError),
-    /// Channel count, rate, resolution or scale out of range.
-    Invalid(&'static str),
-}
-
 /// The control loop over a bus `SPI` and PWM channels `PWM`.
 pub struct Firmware<S, SPI, PWM> {
     spi: SPI,
@@ -85,7 +80,7 @@ pub struct Firmware<S, SPI, PWM> {
     /// `h/h0` of code 0, and of the full 2^bits span.
     gap_offset: S,
     gap_span: S,
-    code_scale: f64,
+    adc_bits: u8,
     full_scale: u16,
     /// `V_b / V_dc`: per-unit voltage to a fraction of the DC link.
     v_to_frac: f32,
@@ -98,19 +93,16 @@ pub struct Firmware<S, SPI, PWM> {
 impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
     /// Builds the loop from a configuration; the state starts in equilibrium at each
     /// channel's initial gap. `pwm` must hold one channel per configured magnet.
-    pub fn new(cfg: &Config, spi: SPI, pwm: Vec<PWM, MAX_CHANNELS>) -> Result<Self, ConfigError> {
+    /// Every value is checked first ([`crate::validate`]); a refusal names it.
+    pub fn new(cfg: &Config, spi: SPI, pwm: Vec<PWM, MAX_CHANNELS>) -> Result<Self, ConfigFault> {
+        check_config(cfg)?;
         let n = cfg.channels.len();
-        if n == 0 || pwm.len() != n {
-            return Err(ConfigError::Invalid("channels"));
-        }
-        if cfg.rate_hz == 0 || cfg.ticks_per_step == 0 {
-            return Err(ConfigError::Invalid("rate"));
-        }
-        if !(1..=16).contains(&cfg.adc_bits) || cfg.adc_lsb_m.is_nan() || cfg.adc_lsb_m <= 0.0 {
-            return Err(ConfigError::Invalid("adc"));
-        }
-        if cfg.v_dc.is_nan() || cfg.v_dc <= 0.0 {
-            return Err(ConfigError::Invalid("v_dc"));
+        if pwm.len() != n {
+            return Err(ConfigFault {
+                key: ConfigKey::Channels,
+                channel: None,
+                problem: Problem::OutOfRange,
+            });
         }
         let mut laws = Vec::new();
         let mut coils = Vec::new();
@@ -131,7 +123,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
                     x_ref_max,
                 }
                 .compile::<S>(1.0 / cfg.rate_hz as f64)
-                .map_err(ConfigError::Law)?,
+                .map_err(|e| law_fault(e, None))?,
             ),
         };
         for (k, ch) in cfg.channels.iter().enumerate() {
@@ -150,7 +142,8 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
                 // One control tick per update: the paper's Eq. 14 is the firmware's law.
                 scheme: maglev_core::Scheme::Paper,
             };
-            let law = p.compile::<S>().map_err(ConfigError::Law)?;
+            let channel = Some(k as u8);
+            let law = p.compile::<S>().map_err(|e| law_fault(e, channel))?;
             let coil = Params {
                 kp: 0.0,
                 ki: 0.0,
@@ -158,10 +151,12 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
                 ..p
             }
             .compile::<S>()
-            .map_err(ConfigError::Law)?;
+            .map_err(|e| law_fault(e, channel))?;
             let code = libm::round((ch.gap - cfg.adc_offset_m) / cfg.adc_lsb_m)
                 .clamp(1.0, full_scale as f64 - 1.0) as u16;
-            let inner = law.equilibrium_state(ch.gap);
+            let inner = law
+                .try_equilibrium_state(ch.gap)
+                .map_err(|e| law_fault(e, channel))?;
             st.ch[k] = ChannelState {
                 law: GapState {
                     inner,
@@ -184,9 +179,13 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         let span_m = (1u32 << cfg.adc_bits) as f64 * cfg.adc_lsb_m;
         let gap_offset = S::from_f64(cfg.adc_offset_m / cfg.h0, &mut ov);
         let gap_span = S::from_f64(span_m / cfg.h0, &mut ov);
-        let ramp_step = S::from_f64(1.0 / cfg.ramp_ticks.max(1) as f64, &mut ov);
+        let ramp_step = S::from_f64(1.0 / cfg.ramp_ticks as f64, &mut ov);
         if ov {
-            return Err(ConfigError::Invalid("adc range in units of h0"));
+            return Err(ConfigFault {
+                key: ConfigKey::AdcOffset,
+                channel: None,
+                problem: Problem::Unrepresentable,
+            });
         }
         let mut fw = Firmware {
             spi,
@@ -196,14 +195,14 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
             outer,
             gap_offset,
             gap_span,
-            code_scale: 1.0 / (1u32 << cfg.adc_bits) as f64,
+            adc_bits: cfg.adc_bits,
             full_scale,
             v_to_frac: (cfg.r0 * cfg.i0 / cfg.v_dc) as f32,
             delay: cfg.delay,
             limits: Limits {
                 hold_ticks: cfg.hold_ticks,
                 stuck_ticks: cfg.stuck_ticks,
-                ramp_ticks: cfg.ramp_ticks.max(1),
+                ramp_ticks: cfg.ramp_ticks,
             },
             ramp_step,
             st,
@@ -239,10 +238,10 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         }
     }
 
-    /// Per-unit gap `h/h0` of a code.
+    /// Per-unit gap `h/h0` of a code (no `f64`: software floating point on the targets).
     fn gap_pu(&self, code: u16) -> S {
         let mut ov = false;
-        let frac = S::from_f64(code as f64 * self.code_scale, &mut ov);
+        let frac = S::from_code(code, self.adc_bits);
         self.gap_offset
             .sadd(frac.smul(self.gap_span, &mut ov), &mut ov)
     }
@@ -250,10 +249,31 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
     /// Quantises a per-unit voltage to a duty and writes it; returns whether it clipped.
     fn apply(&mut self, k: usize, v: S) -> bool {
         let max = self.pwm[k].max_duty_cycle();
-        let (duty, clipped) = duty_for(v.to_f64() as f32 * self.v_to_frac, max);
+        let (duty, clipped) = duty_for(v.to_f32() * self.v_to_frac, max);
         let _ = self.pwm[k].set_duty_cycle(duty);
         self.st.ch[k].duty = duty;
         clipped
+    }
+
+    /// Starts the fault reaction: every coil's voltage ramps from its value to 0.
+    fn enter_fault(&mut self) {
+        let n = self.channels();
+        self.st.mode = Mode::Ramp;
+        self.st.ramp_left = self.limits.ramp_ticks;
+        for ch in self.st.ch.iter_mut().take(n) {
+            ch.ramp_from = ch.law.inner.v;
+        }
+    }
+
+    /// The link-loss watchdog fired: the fault reaction as for a sensor fault (latched until
+    /// the next `Config`). Returns `LINK_LOST`, with `FAULT` if this started the reaction.
+    pub fn trip(&mut self) -> Event {
+        let mut events = Event::LINK_LOST;
+        if self.st.mode == Mode::Normal {
+            self.enter_fault();
+            events.raise(Event::FAULT);
+        }
+        events
     }
 
     /// One control period; returns the events raised.
@@ -275,11 +295,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
             };
         }
         if fault && self.st.mode == Mode::Normal {
-            self.st.mode = Mode::Ramp;
-            self.st.ramp_left = self.limits.ramp_ticks;
-            for ch in self.st.ch.iter_mut().take(n) {
-                ch.ramp_from = ch.law.inner.v;
-            }
+            self.enter_fault();
             events.raise(Event::FAULT);
         }
         let mut ov = false;

@@ -22,5 +22,6 @@ pub mod hbridge;
 pub mod protocol;
 pub mod server;
 pub mod supervision;
+pub mod validate;
 
 pub mod board;

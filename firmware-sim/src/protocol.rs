@@ -21,7 +21,8 @@ use serde::{Deserialize, Serialize};
 
 /// Protocol version carried in every envelope; a mismatch is answered with [`Nack::Version`].
 /// 2: [`Config::law`] added (postcard is not self-describing, so the layout changed).
-pub const VERSION: u8 = 2;
+/// 3: [`Config::watchdog_ticks`] added, and [`Nack::BadConfig`] carries a [`ConfigFault`].
+pub const VERSION: u8 = 3;
 /// Most magnet channels one firmware serves (4 wheels × 3 magnets = 12 for the Fig. 1 car).
 pub const MAX_CHANNELS: usize = 16;
 /// Most ADC codes in one step request (channels × ticks per step).
@@ -87,6 +88,10 @@ pub struct Config {
     pub stuck_ticks: u16,
     /// Length of the coil-voltage ramp to zero after a fault.
     pub ramp_ticks: u16,
+    /// Link-loss watchdog: this many control-timer periods without a `Step` trigger the
+    /// fault reaction (0 = off; otherwise more than `ticks_per_step`). See
+    /// [`crate::server::Server::timer_tick`].
+    pub watchdog_ticks: u16,
 }
 
 /// Which levitation law the firmware runs on every channel.
@@ -158,10 +163,131 @@ pub enum Nack {
     NotConfigured,
     /// Wrong number of codes, or a commit for a step that was not run.
     BadRequest,
-    /// The configuration cannot be compiled (e.g. fixed point cannot hold a coefficient).
-    BadConfig,
+    /// A configuration value is out of its range, or the law cannot be compiled with it
+    /// (e.g. fixed point cannot hold a coefficient): which one and why.
+    BadConfig(ConfigFault),
     /// `seq` older than the last request executed (a late duplicate): not executed.
     Stale,
+}
+
+/// Why a [`Config`] was refused: the value ([`ConfigKey`], and the channel for per-channel
+/// values) and what is wrong with it. [`core::fmt::Display`] names the key and its limit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ConfigFault {
+    pub key: ConfigKey,
+    /// The channel of a per-channel value (`p0`, `gap`).
+    pub channel: Option<u8>,
+    pub problem: Problem,
+}
+
+/// A [`Config`] value, by the name the host's `--set` uses where there is one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ConfigKey {
+    Channels,
+    Rate,
+    TicksPerStep,
+    I0,
+    H0,
+    R0,
+    Kp,
+    Ki,
+    Alpha,
+    VMax,
+    /// The gap loop's gains (`GapLoop { kp, kd, tf, x_ref_max }`).
+    GapLoop,
+    P0,
+    Gap,
+    AdcBits,
+    AdcLsb,
+    AdcOffset,
+    PwmBits,
+    VDc,
+    HoldTicks,
+    StuckTicks,
+    RampTicks,
+    WatchdogTicks,
+}
+
+/// What is wrong with a [`Config`] value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Problem {
+    /// NaN or infinite.
+    NotFinite,
+    /// Outside the range [`ConfigKey::limit`] gives.
+    OutOfRange,
+    /// The run-time number type cannot hold the law's coefficients with this value.
+    Unrepresentable,
+}
+
+impl ConfigKey {
+    /// The name (as `maglev hil --set` spells it where it is a key).
+    pub fn name(self) -> &'static str {
+        use ConfigKey::*;
+        match self {
+            Channels => "channels",
+            Rate => "rate",
+            TicksPerStep => "ticks_per_step",
+            I0 => "i0",
+            H0 => "h0",
+            R0 => "r0",
+            Kp => "kp",
+            Ki => "ki",
+            Alpha => "alpha",
+            VMax => "v_max",
+            GapLoop => "gap_loop",
+            P0 => "p0",
+            Gap => "gap",
+            AdcBits => "adc_bits",
+            AdcLsb => "adc_lsb",
+            AdcOffset => "adc_offset",
+            PwmBits => "pwm_bits",
+            VDc => "v_dc",
+            HoldTicks => "hold_ticks",
+            StuckTicks => "stuck_ticks",
+            RampTicks => "ramp_ticks",
+            WatchdogTicks => "watchdog_ticks",
+        }
+    }
+
+    /// The accepted values, in words (the limits of [`crate::validate`]).
+    pub fn limit(self) -> &'static str {
+        use ConfigKey::*;
+        match self {
+            Channels => "1..=16 channels, one PWM output each",
+            Rate => "a positive whole number of Hz the law's coefficients fit at",
+            TicksPerStep => "1 or more, channels × ticks_per_step ≤ 1200",
+            I0 | H0 | R0 | P0 | AdcLsb | VDc => "a finite number > 0",
+            Kp | Ki => "a finite number ≥ 0",
+            Alpha => "0..=1",
+            VMax => "a number > 0 (inf for none)",
+            GapLoop => "finite gains ≥ 0, x_ref_max > 0",
+            Gap => {
+                "finite, inside the sensor's range (adc_offset, adc_offset + 2^adc_bits·adc_lsb)"
+            }
+            AdcBits => "2..=16",
+            AdcOffset => "finite, with the sensor range representable in units of h0",
+            PwmBits => "1..=16",
+            HoldTicks => "0..=10000",
+            StuckTicks => "0 (off) or 2..=65535",
+            RampTicks => "1..=65535",
+            WatchdogTicks => "0 (off) or more than ticks_per_step",
+        }
+    }
+}
+
+impl core::fmt::Display for ConfigFault {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let what = match self.problem {
+            Problem::NotFinite => "is not a finite number",
+            Problem::OutOfRange => "is out of range",
+            Problem::Unrepresentable => "cannot be represented by the firmware's number type",
+        };
+        write!(f, "{}", self.key.name())?;
+        if let Some(c) = self.channel {
+            write!(f, " of channel {c}")?;
+        }
+        write!(f, " {what} (accepted: {})", self.key.limit())
+    }
 }
 
 /// The firmware's answer to one step.

@@ -17,8 +17,8 @@ use crate::adc::AdcChip;
 use crate::firmware::{Firmware, FwState};
 use crate::hbridge::HBridge;
 use crate::protocol::{
-    self, Config, Envelope, FrameReader, Nack, Reply, Request, Response, ScalarKind, MAX_FRAME,
-    VERSION,
+    self, Config, ConfigFault, Envelope, FrameReader, Nack, Reply, Request, Response, ScalarKind,
+    MAX_FRAME, VERSION,
 };
 use heapless::Vec;
 use maglev_core::scalar::I4F28;
@@ -30,21 +30,44 @@ pub struct Node<S> {
     committed: FwState<S>,
     trial: Option<(u32, FwState<S>)>,
     ticks: u16,
+    /// Link-loss watchdog: the limit (0 = off) and the timer periods since the last `Step`.
+    watchdog: u16,
+    idle: u32,
 }
 
 impl<S: Scalar> Node<S> {
-    fn new(cfg: &Config) -> Option<Self> {
+    fn new(cfg: &Config) -> Result<Self, ConfigFault> {
         let mut pwm = Vec::new();
         for _ in 0..cfg.channels.len() {
             let _ = pwm.push(HBridge::new(cfg.pwm_bits));
         }
-        let fw = Firmware::new(cfg, AdcChip::default(), pwm).ok()?;
-        Some(Node {
+        let fw = Firmware::new(cfg, AdcChip::default(), pwm)?;
+        Ok(Node {
             committed: fw.state(),
             fw,
             trial: None,
             ticks: cfg.ticks_per_step,
+            watchdog: cfg.watchdog_ticks,
+            idle: 0,
         })
+    }
+
+    /// One control-timer period (see [`Server::timer_tick`]).
+    fn timer_tick(&mut self) -> u16 {
+        if self.watchdog == 0 {
+            return 0;
+        }
+        self.idle = self.idle.saturating_add(1);
+        if self.idle <= self.watchdog as u32 {
+            return 0;
+        }
+        // The link is lost: the fault reaction runs on the committed state, on the firmware's
+        // own timer, with the last samples latched in the ADC; it stays latched.
+        self.fw.restore(&self.committed);
+        let events = self.fw.trip().0 | self.fw.tick().0;
+        self.committed = self.fw.state();
+        self.trial = None;
+        events
     }
 
     fn step(&mut self, step: u32, codes: &[u16]) -> Response {
@@ -52,6 +75,7 @@ impl<S: Scalar> Node<S> {
         if codes.len() != n * self.ticks as usize {
             return Response::Nack(Nack::BadRequest);
         }
+        self.idle = 0;
         self.fw.restore(&self.committed);
         let mut events = 0u16;
         for tick in codes.chunks_exact(n) {
@@ -157,15 +181,34 @@ impl Server {
     }
 
     fn configure(&mut self, cfg: &Config) -> Response {
-        self.engine = match cfg.scalar {
-            ScalarKind::I4F28 => Node::new(cfg).map_or(Engine::None, Engine::Fixed),
-            ScalarKind::F32 => Node::new(cfg).map_or(Engine::None, Engine::Float),
+        let engine = match cfg.scalar {
+            ScalarKind::I4F28 => Node::new(cfg).map(Engine::Fixed),
+            ScalarKind::F32 => Node::new(cfg).map(Engine::Float),
         };
-        match self.engine {
-            Engine::None => Response::Nack(Nack::BadConfig),
-            _ => Response::Ready {
-                channels: cfg.channels.len() as u8,
-            },
+        match engine {
+            Ok(e) => {
+                self.engine = e;
+                Response::Ready {
+                    channels: cfg.channels.len() as u8,
+                }
+            }
+            Err(fault) => {
+                self.engine = Engine::None;
+                Response::Nack(Nack::BadConfig(fault))
+            }
+        }
+    }
+
+    /// The board's control timer, once per period `1/rate` in real time (not used in
+    /// lockstep, where each `Step` carries its ticks): more than `watchdog_ticks` periods
+    /// since the last `Step` trip the link-loss watchdog, which starts the fault reaction
+    /// and then advances it one tick per call. Returns the events raised (`LINK_LOST`,
+    /// `FAULT`, …; 0 while the link is alive, or unconfigured).
+    pub fn timer_tick(&mut self) -> u16 {
+        match &mut self.engine {
+            Engine::None => 0,
+            Engine::Fixed(n) => n.timer_tick(),
+            Engine::Float(n) => n.timer_tick(),
         }
     }
 

@@ -6,12 +6,16 @@
 //! | stuck sensor                      | the same code `stuck_ticks` ticks in a row | as out-of-range |
 //! | collision / contact               | code = 0 (gap at or below the sensor's zero) | fault at once (no hold) |
 //! | SPI error                          | the bus returned an error                | as out-of-range |
+//! | link lost                          | no `Step` for more than `watchdog_ticks` timer periods | fault at once |
 //! | fault                              | any of the above escalated               | all coils: voltage ramps linearly from its last value to 0 over `ramp_ticks`, then stays at 0 V (the vehicle lands on its skids); latched until the next `Config` |
 //!
 //! Link faults (lost, late or corrupted frames) are handled by the protocol (see
 //! [`crate::protocol`] and [`crate::server`]): retransmission with the same sequence number,
 //! answered from the reply cache. In lockstep the firmware has no wall clock, so a lost
-//! frame can never starve a control tick; the host bounds retries and reports.
+//! frame can never starve a control tick; the host bounds retries and reports. A board with
+//! a control timer calls [`crate::server::Server::timer_tick`] every period: more than
+//! `watchdog_ticks` periods without a `Step` raise [`Event::LINK_LOST`] and start the fault
+//! reaction (latched like any other fault).
 //!
 //! Every event is raised in the step's [`crate::protocol::Reply::events`], which the host
 //! logs (`events.csv`) with the step's time.
@@ -39,9 +43,11 @@ impl Event {
     pub const SPI_ERROR: Event = Event(512);
     /// The gap loop's reference `x_ref` was limited to `±x_ref_max`.
     pub const REFERENCE_LIMITED: Event = Event(1024);
+    /// No `Step` for more than `watchdog_ticks` control periods: the link is lost.
+    pub const LINK_LOST: Event = Event(2048);
 
     /// Names of the bits, for logs.
-    pub const NAMES: [(Event, &'static str); 11] = [
+    pub const NAMES: [(Event, &'static str); 12] = [
         (Event::CONTACT, "contact"),
         (Event::OUT_OF_RANGE, "out_of_range"),
         (Event::STUCK, "stuck"),
@@ -53,6 +59,7 @@ impl Event {
         (Event::PWM_CLIPPED, "pwm_clipped"),
         (Event::SPI_ERROR, "spi_error"),
         (Event::REFERENCE_LIMITED, "reference_limited"),
+        (Event::LINK_LOST, "link_lost"),
     ];
 
     pub fn contains(self, e: Event) -> bool {
@@ -159,7 +166,9 @@ fn bad(s: &mut SensorState, mut events: Event, lim: &Limits) -> Verdict {
     Verdict {
         code: s.last_good,
         events,
-        fault: s.bad_run > lim.hold_ticks,
+        // `bad_run` saturates: at its maximum it escalates whatever `hold_ticks` says, so no
+        // limit can turn escalation off (the Config check bounds hold_ticks anyway).
+        fault: s.bad_run > lim.hold_ticks || s.bad_run == u16::MAX,
     }
 }
 

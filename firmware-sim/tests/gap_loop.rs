@@ -63,6 +63,7 @@ fn config(law: LawConfig) -> Config {
         hold_ticks: 20,
         stuck_ticks: 0,
         ramp_ticks: 50,
+        watchdog_ticks: 0,
     }
 }
 

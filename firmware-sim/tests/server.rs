@@ -44,6 +44,7 @@ fn config(scalar: ScalarKind) -> Config {
         hold_ticks: 20,
         stuck_ticks: 100,
         ramp_ticks: 50,
+        watchdog_ticks: 0,
     }
 }
 
@@ -163,7 +164,11 @@ fn unconfigured_and_bad_config_are_refused() {
     cfg.channels.clear();
     assert_eq!(
         s.handle(&env(2, Request::Config(cfg))).msg,
-        Response::Nack(Nack::BadConfig)
+        Response::Nack(Nack::BadConfig(ConfigFault {
+            key: ConfigKey::Channels,
+            channel: None,
+            problem: Problem::OutOfRange,
+        }))
     );
     let mut old = env(3, Request::Ping);
     old.version = 0;
@@ -298,4 +303,186 @@ fn host_process_answers_bit_identically() {
     });
     drop(stdin);
     assert!(child.wait().unwrap().success());
+}
+
+/// The refusal of a Config changed by `f`, in both scalar types (they must agree).
+fn refusal(f: impl Fn(&mut Config)) -> Option<ConfigFault> {
+    let mut out = None;
+    for scalar in [ScalarKind::I4F28, ScalarKind::F32] {
+        let mut cfg = config(scalar);
+        f(&mut cfg);
+        let got = match Server::new().handle(&env(1, Request::Config(cfg))).msg {
+            Response::Ready { .. } => None,
+            Response::Nack(Nack::BadConfig(fault)) => Some(fault),
+            other => panic!("unexpected {other:?}"),
+        };
+        if scalar == ScalarKind::F32 {
+            assert_eq!(got, out, "f32 and i4f28 refuse alike");
+        }
+        out = got;
+    }
+    out
+}
+
+#[test]
+fn every_config_value_is_validated_by_name() {
+    use ConfigKey::*;
+    use Problem::*;
+    let at = |key, problem| {
+        Some(ConfigFault {
+            key,
+            channel: None,
+            problem,
+        })
+    };
+    let on = |key, k, problem| {
+        Some(ConfigFault {
+            key,
+            channel: Some(k),
+            problem,
+        })
+    };
+    assert_eq!(refusal(|_| {}), None);
+    // adc_bits = 1 once panicked in `clamp(1, 0)`; 0 and 17 are out of range too.
+    for bits in [0, 1, 17, 255] {
+        assert_eq!(
+            refusal(|c| c.adc_bits = bits),
+            at(AdcBits, OutOfRange),
+            "{bits}"
+        );
+    }
+    assert_eq!(refusal(|c| c.adc_bits = 2), on(Gap, 0, OutOfRange)); // 4 codes: 0..1.2 µm
+    assert_eq!(refusal(|c| c.rate_hz = 0), at(Rate, OutOfRange));
+    assert_eq!(
+        refusal(|c| c.ticks_per_step = 0),
+        at(TicksPerStep, OutOfRange)
+    );
+    assert_eq!(
+        refusal(|c| c.ticks_per_step = 401),
+        at(TicksPerStep, OutOfRange)
+    );
+    assert_eq!(refusal(|c| c.adc_lsb_m = f64::NAN), at(AdcLsb, NotFinite));
+    assert_eq!(refusal(|c| c.adc_lsb_m = -1e-6), at(AdcLsb, OutOfRange));
+    assert_eq!(
+        refusal(|c| c.adc_offset_m = f64::INFINITY),
+        at(AdcOffset, NotFinite)
+    );
+    assert_eq!(refusal(|c| c.pwm_bits = 0), at(PwmBits, OutOfRange));
+    assert_eq!(refusal(|c| c.pwm_bits = 17), at(PwmBits, OutOfRange));
+    assert_eq!(refusal(|c| c.v_dc = 0.0), at(VDc, OutOfRange));
+    assert_eq!(refusal(|c| c.v_dc = f64::NAN), at(VDc, NotFinite));
+    // hold_ticks = 65535 once turned escalation off.
+    assert_eq!(refusal(|c| c.hold_ticks = 65535), at(HoldTicks, OutOfRange));
+    assert_eq!(refusal(|c| c.hold_ticks = 10_000), None);
+    assert_eq!(refusal(|c| c.stuck_ticks = 1), at(StuckTicks, OutOfRange));
+    assert_eq!(refusal(|c| c.ramp_ticks = 0), at(RampTicks, OutOfRange));
+    assert_eq!(
+        refusal(|c| c.watchdog_ticks = TICKS as u16),
+        at(WatchdogTicks, OutOfRange)
+    );
+    assert_eq!(refusal(|c| c.watchdog_ticks = TICKS as u16 + 1), None);
+    // A NaN gap was accepted once; a gap outside the sensor's range is refused too.
+    assert_eq!(
+        refusal(|c| c.channels[2].gap = f64::NAN),
+        on(Gap, 2, NotFinite)
+    );
+    assert_eq!(
+        refusal(|c| c.channels[1].gap = 0.03),
+        on(Gap, 1, OutOfRange)
+    );
+    assert_eq!(
+        refusal(|c| c.channels[2].p0 = f64::NAN),
+        on(P0, 2, NotFinite)
+    );
+    assert_eq!(refusal(|c| c.channels[0].p0 = -1.0), on(P0, 0, OutOfRange));
+    // The law's parameters, through the core's checks.
+    assert_eq!(refusal(|c| c.i0 = f64::NAN), at(I0, NotFinite));
+    assert_eq!(refusal(|c| c.h0 = 0.0), at(H0, OutOfRange));
+    assert_eq!(refusal(|c| c.r0 = f64::INFINITY), at(R0, NotFinite));
+    assert_eq!(refusal(|c| c.kp = -1.0), at(Kp, OutOfRange));
+    assert_eq!(refusal(|c| c.ki = f64::NAN), at(Ki, NotFinite));
+    assert_eq!(refusal(|c| c.alpha = 1.5), at(Alpha, OutOfRange));
+    assert_eq!(refusal(|c| c.v_max = f64::NAN), at(VMax, NotFinite));
+    assert_eq!(
+        refusal(|c| c.law = LawConfig::GapLoop {
+            kp: f64::NAN,
+            kd: 0.0,
+            tf: 0.0,
+            x_ref_max: 0.1
+        }),
+        at(GapLoop, NotFinite)
+    );
+    // The message names the key and its limit.
+    let f = refusal(|c| c.adc_bits = 1).unwrap();
+    assert_eq!(f.to_string(), "adc_bits is out of range (accepted: 2..=16)");
+}
+
+#[test]
+fn link_loss_watchdog_starts_the_fault_reaction_and_latches() {
+    let mut s = Server::new();
+    let mut cfg = config(ScalarKind::I4F28);
+    cfg.watchdog_ticks = 30;
+    cfg.ramp_ticks = 20;
+    assert!(matches!(
+        s.handle(&env(1, Request::Config(cfg))).msg,
+        Response::Ready { .. }
+    ));
+    let mut seq = 2;
+    let mut run = |s: &mut Server, step: u32| -> Reply {
+        let Response::Reply(r) = s
+            .handle(&env(
+                seq,
+                Request::Step {
+                    step,
+                    codes: codes(step, None),
+                },
+            ))
+            .msg
+        else {
+            panic!("step refused")
+        };
+        s.handle(&env(seq + 1, Request::Commit { step }));
+        seq += 2;
+        r
+    };
+    let before = run(&mut s, 1);
+    assert_eq!(before.mode, Mode::Normal as u8);
+    // The timer runs on; Steps keep the watchdog quiet.
+    for _ in 0..25 {
+        assert_eq!(s.timer_tick(), 0);
+    }
+    run(&mut s, 2);
+    for _ in 0..30 {
+        assert_eq!(s.timer_tick(), 0, "within watchdog_ticks of the last Step");
+    }
+    // Period 31 without a Step: link lost, fault reaction.
+    let e = Event(s.timer_tick());
+    assert!(
+        e.contains(Event::LINK_LOST) && e.contains(Event::FAULT),
+        "{e:?}"
+    );
+    // The reaction runs on the timer: the ramp reaches 0 V after ramp_ticks periods.
+    for _ in 0..19 {
+        let e = Event(s.timer_tick());
+        assert!(e.contains(Event::LINK_LOST) && !e.contains(Event::FAULT));
+    }
+    // Latched: a Step after the link returns still reports the fault mode, coils at 0 V.
+    let after = run(&mut s, 3);
+    assert_eq!(after.mode, Mode::Off as u8);
+    let mid = ((1u32 << 12) - 1) as u16 / 2;
+    for ch in &after.channels {
+        assert!(
+            ch.duty.abs_diff(mid) <= 1,
+            "0 V is mid duty, got {}",
+            ch.duty
+        );
+    }
+    // A new Config clears it.
+    let mut cfg = config(ScalarKind::I4F28);
+    cfg.watchdog_ticks = 30;
+    assert!(matches!(
+        s.handle(&env(100, Request::Config(cfg))).msg,
+        Response::Ready { .. }
+    ));
+    assert_eq!(s.timer_tick(), 0);
 }

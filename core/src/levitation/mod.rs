@@ -44,6 +44,13 @@
 //! * Parabolic interpolation needs `h^{t−Δt}`; before the first step the gap is taken to
 //!   have been constant.
 //!
+//! # Cost on small cores (docs/hil.md, "Instruction budget")
+//! * `n_sub = 1`, paper scheme, no voltage bound (the firmware's law): [`Levitation::update`]
+//!   first runs a straight-line path with one check per update instead of one per operation;
+//!   it gives the general path's bits exactly or declines.
+//! * Fixed point evaluates the quotient of Eq. 14 division-free, `c·N/den ≈ N·(cr − cru·η)`
+//!   ([`Params`]' `reciprocal`, exact to about one LSB of I4F28); floats keep the division.
+//!
 //! # Two schemes ([`Scheme`])
 //! [`Scheme::Paper`] (the default) is Eq. 14 applied `n_sub` times per outer step, as above: a
 //! first-order method for the coil + PI equations (docs/numerics.md). [`Scheme::Accurate`]
@@ -212,6 +219,80 @@ impl Params {
         ]
     }
 
+    /// The division-free form of Eq. 14's quotient for fixed point, with the magnitude each
+    /// coefficient's conversion error is measured against.
+    ///
+    /// `c·N/den` with `den = d0 + cα·η`, `d0 = 1 + cα(1 + kph)`: with `u = cα·η/d0`,
+    /// `1/den = (1/d0)(1 − u + u² − …)`, so `c·N/den ≈ N·(cr − cru·η)`, `cr = c/d0`,
+    /// `cru = c·cα/d0²`. The omitted terms are `cr·u²/(1 + u)`: at Δt = 1 ms and `|η| ≤ 1`
+    /// (`cα = 1.3e-3`) 4e-9·η² absolute on a coefficient of 2.5e-3, i.e. about one LSB of
+    /// I4F28 (3.7e-9), the coefficient's own quantisation; at the firmware's 0.1 ms, 100×
+    /// less. The saturated branch's coil step (`den = 1 + cα(1 + η)`) is expanded the same
+    /// way around `d0 = 1 + cα` (`crs`, `crsu`). `cru`, `crsu` are far below one LSB's
+    /// relative resolution on their own; what matters is their error next to `cr` (`crs`).
+    fn reciprocal(&self) -> [(&'static str, f64, f64); 4] {
+        let [(_, c), _, (_, ca), (_, ca1), ..] = self.coefficients();
+        let d0 = 1.0 + ca1;
+        let ds = 1.0 + ca;
+        let (cr, crs) = (c / d0, c / ds);
+        [
+            ("c/den0", cr, cr),
+            ("c*ca/den0^2", c * ca / (d0 * d0), cr),
+            ("c/(1+c*alpha)", crs, crs),
+            ("c*ca/(1+c*alpha)^2", c * ca / (ds * ds), crs),
+        ]
+    }
+
+    /// Fixed point, `n_sub = 1`: the largest bound `B` (1, ½, ¼ or ⅛) such that with
+    /// `|x|, |y| ≤ B` and a gap accepted without event (`−1 < η ≤ h_max − 1`), no operation of
+    /// the update can leave 0.9 × the type's range — worst case of every intermediate,
+    /// operation by operation, in f64. Then the fast path needs no per-operation saturation.
+    fn fast_bound<S: Scalar>(&self, h_max_pu: f64) -> Option<S> {
+        let [_, (_, kpd), _, _, (_, kih), (_, kpv), _] = self.coefficients();
+        let [(_, cr, _), (_, cru, _), ..] = self.reciprocal();
+        let e = (h_max_pu - 1.0).max(1.0);
+        let lim = 0.9 * S::MAX_ABS;
+        // Every factor of a product also below the bound that makes `mul_raw` exact.
+        let lim_factor = lim.min(crate::scalar::RAW_OPERAND_MAX);
+        [1.0, 0.5, 0.25, 0.125].into_iter().find_map(|b: f64| {
+            let fac = 1.0 + kpd + e;
+            let num = b + e + b * fac;
+            let coef = cr + cru * e;
+            let dx = num * coef;
+            let x1 = b + dx;
+            let y1 = b + kih * (b + x1);
+            let v1 = 1.0 + y1 + kpv * x1;
+            let g = 1.0 + x1;
+            let worst = [
+                fac,
+                b * fac,
+                b + e,
+                num,
+                coef,
+                cru * e,
+                dx,
+                x1,
+                b + x1,
+                kih * (b + x1),
+                y1,
+                1.0 + y1,
+                kpv * x1,
+                v1,
+                g,
+                g * g,
+                g * (1.0 + e),
+            ];
+            // The factors of the seven products (x·fac, cru·η, num·coef, kih·(x + x1),
+            // kpv·x1, g·g, g·(1 + η)).
+            let factors = [b, fac, cru, e, num, coef, kih, b + x1, kpv, x1, g, 1.0 + e];
+            let ok = worst.iter().all(|w| w.is_finite() && *w <= lim)
+                && factors.iter().all(|w| *w <= lim_factor);
+            let mut ov = false;
+            let s = S::from_f64(b, &mut ov);
+            (ok && !ov).then_some(s)
+        })
+    }
+
     /// Converts to the run-time type once, with the default tolerance
     /// [`DEFAULT_COEFFICIENT_TOLERANCE`].
     pub fn compile<S: Scalar>(&self) -> Result<Levitation<S>, ParamError> {
@@ -239,6 +320,14 @@ impl Params {
             Scheme::Accurate => gauss = accurate::Gauss::compile(self, tolerance)?,
         }
         let [c, kpd, ca, ca1, kih, kpv, inv_n] = paper;
+        // Division-free Eq. 14 (fixed point): the reciprocal's coefficients.
+        let mut recip = [S::ZERO; 4];
+        if !S::FLOAT && self.scheme == Scheme::Paper {
+            for (slot, (name, value, scale)) in recip.iter_mut().zip(self.reciprocal().iter()) {
+                *slot = convert_scaled(name, *value, *scale, tolerance)?;
+            }
+        }
+        let [cr, cru, crs, crsu] = recip;
         // The voltage bound in per unit, capped inside the type's range so that the
         // saturated branch itself cannot overflow.
         let v_max_pu = (self.v_max / self.v_base()).min(0.9 * S::MAX_ABS);
@@ -246,7 +335,8 @@ impl Params {
         let v_max = S::from_f64(v_max_pu, &mut ov);
         let half = S::from_f64(0.5, &mut ov);
         // Largest per-unit gap accepted: 100·h0, or what the type holds with headroom.
-        let h_max = S::from_f64((0.45 * S::MAX_ABS).min(100.0), &mut ov);
+        let h_max_pu = (0.45 * S::MAX_ABS).min(100.0);
+        let h_max = S::from_f64(h_max_pu, &mut ov);
         if ov {
             return Err(ParamError::Unrepresentable {
                 name: "v_max",
@@ -255,18 +345,43 @@ impl Params {
                 scalar: S::NAME,
             });
         }
+        // 1 + kpd and 1 + cα(1 + kph) exactly as the general path adds them.
+        let one_kpd = S::ONE.sadd(kpd, &mut ov);
+        let one_ca1 = S::ONE.sadd(ca1, &mut ov);
+        // The fast path takes gaps up to 2·h0 (|η| ≤ 1); larger ones go the general way.
+        let fast_h_pu = h_max_pu.min(FAST_H_MAX);
+        let fast_xy = match (self.n_sub, self.scheme) {
+            (1, Scheme::Paper) if S::FLOAT => Some(S::ZERO), // floats check the results instead
+            (1, Scheme::Paper) => self.fast_bound::<S>(fast_h_pu),
+            _ => None,
+        };
+        // A voltage bound would cost the fast path two compares per update: bounded
+        // configurations take the general path.
+        let fast = fast_xy.is_some() && !ov && self.v_max == f64::INFINITY;
+        let fast_h = if fast {
+            S::from_f64(fast_h_pu, &mut ov)
+        } else {
+            S::ZERO // no gap passes `0 < h ≤ 0`: the fast path always declines
+        };
         Ok(Levitation {
             params: *self,
             c,
             kpd,
             ca,
-            ca1,
             kih,
             kpv,
             inv_n,
             v_max,
             half,
             h_max,
+            one_kpd,
+            one_ca1,
+            cr,
+            cru,
+            crs,
+            crsu,
+            fast_h,
+            fast_xy: fast_xy.unwrap_or(S::ZERO),
             gauss,
         })
     }
@@ -296,6 +411,36 @@ pub(crate) fn convert<S: Scalar>(
     }
     Ok(s)
 }
+
+/// `value` in the run-time type with an absolute error of at most `tolerance·scale` (else
+/// [`ParamError::Unrepresentable`], the error given relative to `scale`): for a coefficient
+/// that only ever corrects a larger one of magnitude `scale`.
+fn convert_scaled<S: Scalar>(
+    name: &'static str,
+    value: f64,
+    scale: f64,
+    tolerance: f64,
+) -> Result<S, ParamError> {
+    let mut ov = false;
+    let s = S::from_f64(value, &mut ov);
+    let rel = if scale == 0.0 {
+        0.0
+    } else {
+        ((s.to_f64() - value) / scale).abs()
+    };
+    if ov || rel.is_nan() || rel > tolerance {
+        return Err(ParamError::Unrepresentable {
+            name,
+            value,
+            relative_error: rel,
+            scalar: S::NAME,
+        });
+    }
+    Ok(s)
+}
+
+/// Largest per-unit gap `h/h0` the `n_sub = 1` fast path takes (docs/hil.md).
+const FAST_H_MAX: f64 = 2.0;
 
 /// Largest relative error accepted when converting a run-time coefficient to its type.
 pub const DEFAULT_COEFFICIENT_TOLERANCE: f64 = 1e-4;
@@ -433,13 +578,25 @@ pub struct Levitation<S> {
     c: S,
     kpd: S,
     ca: S,
-    ca1: S,
     kih: S,
     kpv: S,
     inv_n: S,
     v_max: S,
     half: S,
     h_max: S,
+    /// `1 + kpd`, `1 + cα(1 + kph)` (as the general path adds them).
+    one_kpd: S,
+    one_ca1: S,
+    /// Division-free Eq. 14 for fixed point ([`Params::reciprocal`]); zero for floats.
+    cr: S,
+    cru: S,
+    crs: S,
+    crsu: S,
+    /// `n_sub = 1` under the paper's scheme without a voltage bound: [`Levitation::update`]
+    /// tries the straight-line path first for gaps `0 < h ≤ fast_h` (zero otherwise: never); for fixed point it
+    /// requires `|x|, |y| ≤ fast_xy` ([`Params::fast_bound`]).
+    fast_h: S,
+    fast_xy: S,
     gauss: accurate::Gauss<S>,
 }
 
@@ -460,8 +617,43 @@ impl<S: Scalar> Levitation<S> {
         S::from_f64(h / self.params.h0, overflow)
     }
 
+    /// [`Levitation::initial_state`], refusing a gap that is not a finite positive number of
+    /// metres the type can hold (`NotFinite("h")`, `NotPositive("h")`, `Unrepresentable`):
+    /// an unchecked NaN would start in a collision state.
+    pub fn try_initial_state(&self, h: f64) -> Result<State<S>, ParamError> {
+        self.check_gap(h)?;
+        Ok(self.initial_state(h))
+    }
+
+    /// [`Levitation::equilibrium_state`] with the checks of [`Levitation::try_initial_state`].
+    pub fn try_equilibrium_state(&self, h: f64) -> Result<State<S>, ParamError> {
+        self.check_gap(h)?;
+        Ok(self.equilibrium_state(h))
+    }
+
+    fn check_gap(&self, h: f64) -> Result<(), ParamError> {
+        if !h.is_finite() {
+            return Err(ParamError::NotFinite("h"));
+        }
+        if h <= 0.0 {
+            return Err(ParamError::NotPositive("h"));
+        }
+        let mut ov = false;
+        let pu = self.gap_pu(h, &mut ov);
+        if ov || pu > self.h_max {
+            return Err(ParamError::Unrepresentable {
+                name: "h",
+                value: h / self.params.h0,
+                relative_error: f64::INFINITY,
+                scalar: S::NAME,
+            });
+        }
+        Ok(())
+    }
+
     /// The state at equilibrium (model.md §4): `g = g0`, `KI·e_a = R0·i0`, the gap taken to
-    /// have been `h` (m) until now.
+    /// have been `h` (m) until now. Use [`Levitation::try_initial_state`] where `h` may be
+    /// bad: here a NaN gap is taken as 0 (a collision state) without a flag.
     pub fn initial_state(&self, h: f64) -> State<S> {
         let mut ov = false;
         let eta = self.gap_pu(h, &mut ov).ssub(S::ONE, &mut ov);
@@ -502,15 +694,23 @@ impl<S: Scalar> Levitation<S> {
         }
     }
 
-    /// Converts an output to SI units (f64).
+    /// Converts an output to SI units (f64). Never non-finite: a product beyond f64's range
+    /// (only an `f64` controller's saturated output can get there) saturates at ±`f64::MAX`
+    /// and raises [`Status::OVERFLOW`].
     pub fn to_si(&self, o: &Output<S>) -> SiOutput {
         let p = &self.params;
+        let mut ov = false;
+        let mut si = |v: S, scale: f64| (v.to_f64()).smul(scale, &mut ov);
+        let (g, force) = (si(o.g, p.g0()), si(o.force, p.p0));
+        let (current, voltage) = (si(o.current, p.i0), si(o.voltage, p.v_base()));
+        let mut status = o.status;
+        status.raise_if(ov, Status::OVERFLOW);
         SiOutput {
-            g: o.g.to_f64() * p.g0(),
-            force: o.force.to_f64() * p.p0,
-            current: o.current.to_f64() * p.i0,
-            voltage: o.voltage.to_f64() * p.v_base(),
-            status: o.status,
+            g,
+            force,
+            current,
+            voltage,
+            status,
         }
     }
 
@@ -518,10 +718,85 @@ impl<S: Scalar> Levitation<S> {
     /// `h/h0`), interpolated inside the step (model.md §4), and the selected [`Scheme`] advances
     /// the coil + PI equations: Eq. 14 `n_sub` times, or the Gauss–Legendre intervals of
     /// [`accurate`]. Never panics; every anomaly is reported in [`Output::status`].
+    ///
+    /// With `n_sub = 1` under the paper's scheme and no voltage bound (the firmware's law) it runs
+    /// a straight-line fast path (`fast_update`) first, which gives the same bits or declines.
+    #[inline]
     pub fn update(&self, st: &mut State<S>, h_next: S) -> Output<S> {
+        if let Some(out) = self.fast_update(st, h_next) {
+            return out;
+        }
+        self.general_update(st, h_next)
+    }
+
+    /// The general path of [`Levitation::update`], out of line so that the fast path's
+    /// prologue stays small.
+    #[inline(never)]
+    fn general_update(&self, st: &mut State<S>, h_next: S) -> Output<S> {
         // Without a reference the reference terms are compiled out: the paper's law costs
         // no more than before the gap loop existed (instruction counts in docs/hil.md).
         self.advance::<false>(st, h_next, S::ZERO)
+    }
+
+    /// The paper's law for `n_sub = 1` in one straight line (docs/hil.md, "Instruction
+    /// budget"): [`Levitation::substep`]'s operations in its order, unchecked, with one check
+    /// for the whole update instead of one per operation. Fixed point: `|x|, |y|` within the
+    /// bound proven at compile time ([`Params::fast_bound`]) keeps every intermediate in
+    /// range. Floats: an overflow anywhere propagates an infinity or NaN into `Δx`, `v` or
+    /// the force or the voltage (`x ≥ −1` and the gap are bounded, the denominator is ≥ 1; a
+    /// `Δx` of −∞ ends below the current floor, which declines), so the sum of the force
+    /// and the voltage is checked once. Declines (`None`, state untouched) on any event —
+    /// collision, gap beyond 2·h0 or NaN, inputs beyond the bound, current floor,
+    /// non-finite result — and the general path runs; so the outcome is
+    /// bit-identical to the general path's either way.
+    #[inline(always)]
+    fn fast_update(&self, st: &mut State<S>, h1: S) -> Option<Output<S>> {
+        if !h1.positive_up_to(self.fast_h) {
+            return None;
+        }
+        let (x, y) = (st.x, st.y);
+        if !S::FLOAT {
+            let b = self.fast_xy;
+            let nb = S::ZERO.sub_raw(b);
+            if !(x >= nb && x <= b && y >= nb && y <= b) {
+                return None;
+            }
+        }
+        let one = S::ONE;
+        let eta = h1.sub_raw(one);
+        let num = y.sub_raw(eta).sub_raw(x.mul_raw(self.one_kpd.add_raw(eta)));
+        let dx = if S::FLOAT {
+            let den = self.one_ca1.add_raw(self.ca.mul_raw(eta));
+            self.c.mul_raw(num).div_raw(den)
+        } else {
+            num.mul_raw(self.cr.sub_raw(self.cru.mul_raw(eta)))
+        };
+        let x1 = x.add_raw(dx);
+        let g = one.add_raw(x1);
+        // `1 + x1 < 0` is `x1 < −1`: exact in fixed point, and in floats by Sterbenz's lemma
+        // on [−2, −½] (outside it both sides have the same sign).
+        if g < S::ZERO {
+            return None;
+        }
+        let y1 = y.sub_raw(self.kih.mul_raw(x.add_raw(x1)));
+        let v1 = one.add_raw(y1).sub_raw(self.kpv.mul_raw(x1));
+        let force = g.mul_raw(g);
+        let current = g.mul_raw(one.add_raw(eta));
+        if S::FLOAT && !v1.add_raw(force).is_finite_value() {
+            return None;
+        }
+        st.eta_prev = st.eta;
+        st.eta = eta;
+        st.x = x1;
+        st.y = y1;
+        st.v = v1;
+        Some(Output {
+            g,
+            force,
+            current,
+            voltage: v1,
+            status: Status::default(),
+        })
     }
 
     /// [`Levitation::update`] with the reference `g_ref = g0·(1 + x_ref)` in place of `g0`
@@ -646,14 +921,19 @@ impl<S: Scalar> Levitation<S> {
         let mut status = Status::default();
         let one = S::ONE;
         // N = y − η − x·(1 + kpd + η) + kpd·r
-        let factor = one.sadd(self.kpd, ov).sadd(eta, ov);
+        let factor = self.one_kpd.sadd(eta, ov);
         let mut num = y.ssub(eta, ov).ssub(x.smul(factor, ov), ov);
         if REF {
             num = num.sadd(self.kpd.smul(r, ov), ov);
         }
-        // 1 + cα(1 + kph) + cα·η
-        let den = one.sadd(self.ca1, ov).sadd(self.ca.smul(eta, ov), ov);
-        let mut x1 = x.sadd(self.c.smul(num, ov).sdiv(den, ov), ov);
+        // Δx = c·N / (1 + cα(1 + kph) + cα·η); fixed point division-free (Params::reciprocal).
+        let dx = if S::FLOAT {
+            let den = self.one_ca1.sadd(self.ca.smul(eta, ov), ov);
+            self.c.smul(num, ov).sdiv(den, ov)
+        } else {
+            num.smul(self.cr.ssub(self.cru.smul(eta, ov), ov), ov)
+        };
+        let mut x1 = x.sadd(dx, ov);
         let x_floor = one.sneg(ov);
         if x1 < x_floor {
             x1 = x_floor;
@@ -679,8 +959,13 @@ impl<S: Scalar> Levitation<S> {
             let h = one.sadd(eta, ov);
             let g = one.sadd(x, ov);
             let num = vs.ssub(h.smul(g, ov), ov);
-            let den = one.sadd(self.ca.smul(h, ov), ov);
-            let mut xs = x.sadd(self.c.smul(num, ov).sdiv(den, ov), ov);
+            let dx = if S::FLOAT {
+                let den = one.sadd(self.ca.smul(h, ov), ov);
+                self.c.smul(num, ov).sdiv(den, ov)
+            } else {
+                num.smul(self.crs.ssub(self.crsu.smul(eta, ov), ov), ov)
+            };
+            let mut xs = x.sadd(dx, ov);
             if xs < x_floor {
                 xs = x_floor;
                 status = status.union(Status::CURRENT_CLAMPED);
@@ -701,3 +986,5 @@ fn is_nan<S: PartialEq>(x: S) -> bool {
 mod tests;
 #[cfg(test)]
 mod tests_accurate;
+#[cfg(test)]
+mod tests_fast;

@@ -9,7 +9,8 @@
 
 use core::fmt::Write;
 use maglev_core::scalar::I4F28;
-use maglev_firmware_sim::board::selftest::{op_costs, report, run, Config, Measure};
+use maglev_firmware_sim::board::car_tick;
+use maglev_firmware_sim::board::selftest::{call_cost, op_costs, report, run, Config, Measure};
 
 /// Instruction budget per fixed-point update without the internal loop (issue 4, item 5).
 const BUDGET_FIXED: u32 = 250;
@@ -22,7 +23,10 @@ fn selftest<W: Write, M: Measure>(w: &mut W, m: &M) -> core::fmt::Result {
     for (i, cfg) in Config::ALL.into_iter().enumerate() {
         report::<I4F28, _>(w, cfg, counts[i], BUDGET_FIXED)?;
     }
+    call_cost::<I4F28, _, _>(w, m)?;
     op_costs::<I4F28, _, _>(w, m)?;
+    // The car on a 48 MHz Cortex-M0 (STM32F0-class: 1 flash wait state, 2-cycle loads, 3-cycle taken branches: 1.5 cycles per insn assumed).
+    car_tick::report::<I4F28, _, _>(w, m, f64::INFINITY, "paper", 48, 150)?;
     Ok(())
 }
 

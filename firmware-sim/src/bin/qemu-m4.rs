@@ -9,8 +9,8 @@
 
 use core::fmt::Write;
 use maglev_core::scalar::I4F28;
-use maglev_firmware_sim::board::lower_bound;
-use maglev_firmware_sim::board::selftest::{op_costs, report, run, Config, Measure};
+use maglev_firmware_sim::board::selftest::{call_cost, op_costs, report, run, Config, Measure};
+use maglev_firmware_sim::board::{car_tick, lower_bound};
 
 /// Instruction budgets per update without the internal loop (issue 4, item 5).
 const BUDGET_F32: u32 = 60;
@@ -26,11 +26,17 @@ fn selftest<W: Write, M: Measure>(w: &mut W, m: &M) -> core::fmt::Result {
         report::<f32, _>(w, cfg, counts[i], BUDGET_F32)?;
         report::<I4F28, _>(w, cfg, counts[2 + i], BUDGET_FIXED)?;
     }
+    call_cost::<f32, _, _>(w, m)?;
+    call_cost::<I4F28, _, _>(w, m)?;
     op_costs::<f32, _, _>(w, m)?;
     op_costs::<I4F28, _, _>(w, m)?;
     if !lower_bound::compare(w, m)? {
         return Err(core::fmt::Error); // fails the image: the experiment no longer matches
     }
+    // The car on one MCU: a 168 MHz STM32F4-class Cortex-M4F, 2 cycles per instruction.
+    car_tick::report::<f32, _, _>(w, m, f64::INFINITY, "paper", 168, 200)?;
+    car_tick::report::<I4F28, _, _>(w, m, f64::INFINITY, "paper", 168, 200)?;
+    car_tick::report::<f32, _, _>(w, m, 200.0, "v_max=200V", 168, 200)?;
     Ok(())
 }
 

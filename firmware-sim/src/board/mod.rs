@@ -2,12 +2,14 @@
 //!
 //! * [`selftest`]: the canned gap trace run through the core controller and printed
 //!   deterministically (exact bits in hex); platform-neutral, so it builds on the host too.
+//! * [`car_tick`]: one control tick of the 12 channels of a Fig. 1 car, against a clock budget.
 //! * [`lower_bound`]: the f32 step without the core's checks, to show what bounds the count.
 //! * `icount` (bare metal only): instructions per call, measured with SysTick under QEMU's
 //!   `-icount` (QEMU models no cycle counter).
 //! * `cmsdk_uart` (bare metal only): UART0 of mps2-an386 as a blocking byte stream
 //!   (embedded-io `Read`/`Write`), the link the wire protocol runs over.
 //! * `semihosting` (bare metal only): text output, exit codes and the panic handler.
+pub mod car_tick;
 pub mod lower_bound;
 pub mod selftest;
 

@@ -106,6 +106,31 @@ pub fn update_once<S: Scalar>(c: &Levitation<S>, st: &mut State<S>, h: S) -> Out
     c.update(st, h)
 }
 
+/// A function with [`update_once`]'s signature that returns at once: measured in the same
+/// window, it is the harness's share of an update count (docs/hil.md).
+#[inline(never)]
+pub fn update_shaped<S: Scalar>(_c: &Levitation<S>, _st: &mut State<S>, _h: S) -> Output<S> {
+    Output::default()
+}
+
+/// Prints the instructions of a call of [`update_shaped`] in the update's measuring window.
+pub fn call_cost<S: Bits, W: Write, M: Measure>(w: &mut W, m: &M) -> fmt::Result {
+    let p = Config::Paper.params();
+    let Ok(ctrl) = p.compile::<S>() else {
+        return writeln!(w, "insns {} update-shaped call: not compiled", S::NAME);
+    };
+    let mut st = ctrl.initial_state(p.h0);
+    let mut out = Output::default();
+    match m.count(&mut || out = update_shaped(&ctrl, &mut st, S::ONE)) {
+        Some(n) => writeln!(
+            w,
+            "insns {} update-shaped call that returns at once (the harness): {n}",
+            S::NAME
+        ),
+        None => writeln!(w, "insns {} update-shaped call: not measured", S::NAME),
+    }
+}
+
 /// Instruction counts of one run: over steps without events (`nominal`) and over all.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Counts {

@@ -16,7 +16,9 @@ use crate::simulation::{magnet_gaps, Law, Magnets, Outcome, Settings, WheelGaps}
 use crate::vehicle::VehicleModel;
 use maglev_core::gap::Geometry;
 use maglev_core::Status;
-use maglev_firmware_sim::protocol::{ChannelInit, Config, LawConfig, Reply, Request, Response};
+use maglev_firmware_sim::protocol::{
+    ChannelInit, Config, LawConfig, Nack, Reply, Request, Response,
+};
 use maglev_firmware_sim::supervision::Event;
 
 /// A logged firmware event.
@@ -113,9 +115,13 @@ impl<'a> FirmwareMagnets<'a> {
             hold_ticks: hs.hold_ticks,
             stuck_ticks: hs.stuck_ticks,
             ramp_ticks: hs.ramp_ticks,
+            watchdog_ticks: hs.watchdog_ticks,
         };
         match link.call(Request::Config(cfg))? {
             Response::Ready { .. } => {}
+            Response::Nack(Nack::BadConfig(f)) => {
+                return Err(format!("firmware refused the configuration: {f}"))
+            }
             other => return Err(format!("firmware refused the configuration: {other:?}")),
         }
         Ok(FirmwareMagnets {

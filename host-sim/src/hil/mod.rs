@@ -23,7 +23,8 @@ use board::SensorFault;
 use coupling::{FirmwareMagnets, HilOutcome};
 use link::Link;
 use maglev_firmware_sim::adc::AdcModel;
-use maglev_firmware_sim::protocol::ScalarKind;
+use maglev_firmware_sim::protocol::{ConfigKey, ScalarKind};
+use maglev_firmware_sim::validate;
 use std::time::Instant;
 
 /// Firmware, converter and supervision settings of a HIL run (SI).
@@ -38,6 +39,9 @@ pub struct HilSettings {
     pub hold_ticks: u16,
     pub stuck_ticks: u16,
     pub ramp_ticks: u16,
+    /// Link-loss watchdog of the firmware (control periods; 0 = off). Only a board with a
+    /// real-time control timer runs it; the lockstep modes never starve it.
+    pub watchdog_ticks: u16,
     pub sensor_faults: Vec<SensorFault>,
 }
 
@@ -61,13 +65,14 @@ impl Default for HilSettings {
             hold_ticks: 20,
             stuck_ticks: 100,
             ramp_ticks: 2000,
+            watchdog_ticks: 0,
             sensor_faults: Vec::new(),
         }
     }
 }
 
 /// `--set` keys that belong to the firmware, not the scenario.
-pub const HIL_KEYS: [&str; 15] = [
+pub const HIL_KEYS: [&str; 16] = [
     "rate",
     "delay",
     "scalar",
@@ -81,6 +86,7 @@ pub const HIL_KEYS: [&str; 15] = [
     "hold_ticks",
     "stuck_ticks",
     "ramp_ticks",
+    "watchdog_ticks",
     "fault",
     "link_fault",
 ];
@@ -118,13 +124,49 @@ impl HilSettings {
             "hold_ticks" => self.hold_ticks = num(key, value)?,
             "stuck_ticks" => self.stuck_ticks = num(key, value)?,
             "ramp_ticks" => self.ramp_ticks = num(key, value)?,
+            "watchdog_ticks" => self.watchdog_ticks = num(key, value)?,
             "fault" => self.sensor_faults.push(value.parse()?),
             _ => return Err(format!("unknown firmware key `{key}`")),
         }
-        if !(1..=16).contains(&self.adc.bits) || !(1..=16).contains(&self.pwm_bits) {
-            return Err("adc_bits and pwm_bits must lie in 1..=16".into());
+        match self.check(key) {
+            Some(limit) => Err(format!(
+                "--set {key}={value}: out of range (accepted: {limit})"
+            )),
+            None => Ok(()),
         }
-        Ok(())
+    }
+
+    /// The firmware's limits (`maglev_firmware_sim::validate`) for the value `key` set: the
+    /// accepted range if it is outside, so a bad value is reported here, by name, before any
+    /// firmware sees it.
+    fn check(&self, key: &str) -> Option<&'static str> {
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        let (ok, limit) = match key {
+            "rate" => (self.rate_hz > 0, ConfigKey::Rate.limit()),
+            "adc_bits" => (
+                validate::ADC_BITS.contains(&self.adc.bits),
+                ConfigKey::AdcBits.limit(),
+            ),
+            "adc_lsb" => (positive(self.adc.lsb_m), ConfigKey::AdcLsb.limit()),
+            "adc_offset" => (self.adc.offset_m.is_finite(), ConfigKey::AdcOffset.limit()),
+            "adc_noise" => (
+                self.adc.noise_lsb.is_finite() && self.adc.noise_lsb >= 0.0,
+                "a finite number ≥ 0 (LSB rms)",
+            ),
+            "pwm_bits" => (
+                validate::PWM_BITS.contains(&self.pwm_bits),
+                ConfigKey::PwmBits.limit(),
+            ),
+            "v_dc" => (positive(self.v_dc), ConfigKey::VDc.limit()),
+            "hold_ticks" => (
+                self.hold_ticks <= validate::MAX_HOLD_TICKS,
+                ConfigKey::HoldTicks.limit(),
+            ),
+            "stuck_ticks" => (self.stuck_ticks != 1, ConfigKey::StuckTicks.limit()),
+            "ramp_ticks" => (self.ramp_ticks > 0, ConfigKey::RampTicks.limit()),
+            _ => (true, ""),
+        };
+        (!ok).then_some(limit)
     }
 }
 

@@ -1,0 +1,122 @@
+//! Writes the seed corpus (`corpus/decode`, `corpus/handler`): valid requests of every kind
+//! in the handler's input format, and their frames for the decoder. Run once from
+//! `firmware-sim/fuzz`: `cargo run --bin make-corpus`; the files are committed.
+use maglev_firmware_sim::heapless::Vec as HVec;
+use maglev_firmware_sim::protocol::*;
+use std::fs;
+
+fn config(scalar: ScalarKind, law: LawConfig) -> Config {
+    let mut channels = HVec::new();
+    // One Fig. 1 wheel: levitation and the guidance pair.
+    for gap in [0.01, 0.0101, 0.0099] {
+        channels.push(ChannelInit { p0: 36787.5, gap }).unwrap();
+    }
+    Config {
+        scalar,
+        rate_hz: 10_000,
+        ticks_per_step: 2,
+        delay: false,
+        i0: 43.0,
+        h0: 0.01,
+        r0: 1.0,
+        kp: 0.01,
+        ki: 6.0,
+        alpha: 0.5,
+        v_max: f64::INFINITY,
+        law,
+        channels,
+        adc_bits: 16,
+        adc_lsb_m: 0.02 / 65536.0,
+        adc_offset_m: 0.0,
+        pwm_bits: 12,
+        v_dc: 200.0,
+        hold_ticks: 2,
+        stuck_ticks: 3,
+        ramp_ticks: 4,
+        watchdog_ticks: 3,
+    }
+}
+
+fn body(seq: u32, msg: Request) -> Vec<u8> {
+    postcard::to_allocvec(&Envelope {
+        version: VERSION,
+        seq,
+        msg,
+    })
+    .unwrap()
+}
+
+fn prefixed(bodies: &[Vec<u8>]) -> Vec<u8> {
+    let mut v = Vec::new();
+    for b in bodies {
+        v.extend_from_slice(&(b.len() as u16).to_le_bytes());
+        v.extend_from_slice(b);
+    }
+    v
+}
+
+fn main() {
+    let gap_loop = LawConfig::GapLoop {
+        kp: 2.0,
+        kd: 0.02,
+        tf: 0.002,
+        x_ref_max: 0.5,
+    };
+    let codes = |c: u16| -> HVec<u16, MAX_SAMPLES> {
+        let mut v = HVec::new();
+        for k in 0..6 {
+            v.push(c + k % 3).unwrap();
+        }
+        v
+    };
+    let mut seeds: Vec<(&str, Vec<Vec<u8>>)> = Vec::new();
+    for (name, scalar, law) in [
+        ("paper-i4f28", ScalarKind::I4F28, LawConfig::Paper),
+        ("paper-f32", ScalarKind::F32, LawConfig::Paper),
+        ("gaploop-i4f28", ScalarKind::I4F28, gap_loop),
+    ] {
+        seeds.push((
+            name,
+            vec![
+                body(1, Request::Config(config(scalar, law))),
+                body(
+                    2,
+                    Request::Step {
+                        step: 1,
+                        codes: codes(32768),
+                    },
+                ),
+                body(3, Request::Commit { step: 1 }),
+                body(
+                    4,
+                    Request::Step {
+                        step: 2,
+                        codes: codes(0),
+                    },
+                ),
+                body(
+                    4,
+                    Request::Step {
+                        step: 2,
+                        codes: codes(0),
+                    },
+                ),
+                body(5, Request::Ping),
+            ],
+        ));
+    }
+    seeds.push(("ping", vec![body(1, Request::Ping)]));
+    fs::create_dir_all("corpus/handler").unwrap();
+    fs::create_dir_all("corpus/decode").unwrap();
+    for (name, bodies) in &seeds {
+        fs::write(format!("corpus/handler/{name}"), prefixed(bodies)).unwrap();
+        for (k, b) in bodies.iter().enumerate() {
+            let frame = maglev_firmware_fuzz::frame_body(b).unwrap();
+            fs::write(
+                format!("corpus/decode/{name}-{k}"),
+                &frame[..frame.len() - 1],
+            )
+            .unwrap();
+        }
+    }
+}
