@@ -101,5 +101,8 @@ fn three_spans_fe_matches_modal_reference_and_closed_form() {
         peaks.push(peak);
     }
     // Identical spans, identical crossings (up to the step grid): the same peak.
-    assert!(peaks.iter().all(|p| (p / peaks[0] - 1.0).abs() < 1e-3), "{peaks:?}");
+    assert!(
+        peaks.iter().all(|p| (p / peaks[0] - 1.0).abs() < 1e-3),
+        "{peaks:?}"
+    );
 }

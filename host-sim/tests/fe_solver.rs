@@ -4,6 +4,7 @@
 //! matrices, dense Cholesky of the effective stiffness, the full Newmark step per
 //! `solve_step`). Same physics, other arithmetic: the two must agree to round-off.
 
+use maglev_core::gap::{DOFS_PER_NODE, ELEMENT_DOFS};
 use maglev_host_sim::fe::element;
 use maglev_host_sim::fe::{FeGuideway, Rayleigh, SpanModel};
 use maglev_host_sim::guideway::{
@@ -11,7 +12,6 @@ use maglev_host_sim::guideway::{
 };
 use maglev_host_sim::simulation::{simulate, Load, Outcome, Profiles, Settings};
 use maglev_host_sim::vehicle::VehicleModel;
-use maglev_core::gap::{DOFS_PER_NODE, ELEMENT_DOFS};
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 
 /// Dense reference: every span is a dense system, stepped in full at every `solve_step`.
@@ -30,7 +30,10 @@ struct DenseFe {
 impl DenseFe {
     fn new(bridge: &Bridge, elements: usize, dt: f64, damping: Option<Rayleigh>) -> Self {
         let length = bridge.spans[0];
-        assert!(bridge.spans.iter().all(|&l| l == length), "equal spans only");
+        assert!(
+            bridge.spans.iter().all(|&l| l == length),
+            "equal spans only"
+        );
         let model = SpanModel::new(&bridge.section, length, elements).unwrap();
         let n = model.free_dofs();
         let le = length / elements as f64;
@@ -311,7 +314,9 @@ fn parallel_spans_are_bit_identical() {
             }
             fe.commit();
         }
-        (0..5).map(|i| fe.trial_state(i).clone()).collect::<Vec<_>>()
+        (0..5)
+            .map(|i| fe.trial_state(i).clone())
+            .collect::<Vec<_>>()
     };
     let (a, b) = (run(false), run(true));
     assert!(a.iter().all(|s| s.d.iter().any(|&x| x != 0.0)));

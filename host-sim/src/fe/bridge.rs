@@ -91,11 +91,13 @@ impl Span {
         if self.loaded {
             self.trial.d.copy_from(&self.rhs_free);
             self.trial.d += &self.load;
-            sys.newmark.solve_in_place(&mut self.trial.d, &mut self.scratch);
+            sys.newmark
+                .solve_in_place(&mut self.trial.d, &mut self.scratch);
             self.trial_is_free = false;
         } else if !self.trial_is_free {
             self.trial.d.copy_from(&self.rhs_free);
-            sys.newmark.solve_in_place(&mut self.trial.d, &mut self.scratch);
+            sys.newmark
+                .solve_in_place(&mut self.trial.d, &mut self.scratch);
             self.trial_is_free = true;
         }
     }

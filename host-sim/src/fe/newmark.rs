@@ -163,8 +163,7 @@ impl SpanNewmark {
         if let Some(c) = &c {
             keff = keff.combine(1.0, c, 2.0 / dt);
         }
-        let keff = SparseCholesky::new(&keff)
-            .map_err(|e| format!("effective stiffness: {e}"))?;
+        let keff = SparseCholesky::new(&keff).map_err(|e| format!("effective stiffness: {e}"))?;
         Ok(SpanNewmark {
             dt,
             m: m.clone(),
