@@ -104,16 +104,9 @@ impl Span {
 
     /// Accept the trial displacement; complete velocity and acceleration.
     fn commit(&mut self, sys: &SpanSystem) {
-        if !(self.trial_at_rest && self.committed_at_rest) {
-            if self.trial_at_rest {
-                self.committed.d.fill(0.0);
-                self.committed.v.fill(0.0);
-                self.committed.a.fill(0.0);
-                self.trial.v.fill(0.0);
-                self.trial.a.fill(0.0);
-            } else {
-                sys.newmark.finish(&mut self.committed, &mut self.trial);
-            }
+        // A trial at rest implies a committed state at rest (see `advance`): nothing to do.
+        if !self.trial_at_rest {
+            sys.newmark.finish(&mut self.committed, &mut self.trial);
         }
         self.committed_at_rest = self.trial_at_rest;
         self.free_valid = false;
@@ -205,8 +198,8 @@ impl FeGuideway {
         self.parallel = parallel;
     }
 
-    /// Stored non-zeros of the band matrices and factors plus the per-span vectors, in
-    /// f64 words: the model's memory, O(n·b) per span.
+    /// Stored entries of the band matrices, the sparse products and factors (values; factor
+    /// indices not counted) plus the per-span vectors, in 8-byte words: O(n·b) per span.
     pub fn storage_words(&self) -> usize {
         let systems: usize = self
             .systems
@@ -215,7 +208,7 @@ impl FeGuideway {
                 let n = s.model.free_dofs();
                 let band = |b: usize| n * (b + 1);
                 2 * band(s.model.k.bandwidth())
-                    + s.newmark.factor().factor_nonzeros()
+                    + s.newmark.storage_words()
                     + s.static_factor.factor_nonzeros()
             })
             .sum();
@@ -238,7 +231,9 @@ impl FeGuideway {
         &self.systems[self.spans[i].system].model
     }
 
-    /// Trial state of span `i` (free DOFs; see [`SpanModel`]).
+    /// Trial state of span `i` (free DOFs; see [`SpanModel`]). Its displacement is current
+    /// after every `solve_step`; its velocity and acceleration are completed on `commit`
+    /// (after a commit the trial equals the committed state).
     pub fn trial_state(&self, i: usize) -> &State {
         &self.spans[i].trial
     }

@@ -36,7 +36,7 @@ pub mod modes;
 pub mod newmark;
 
 pub use assembly::{DofFamily, SpanModel};
-pub use banded::SymBanded;
+pub use banded::{SymBanded, SymSparse};
 pub use bridge::FeGuideway;
 pub use modes::{natural_modes, Mode, ModeKind};
 pub use newmark::{Newmark, Rayleigh, SpanNewmark, State};

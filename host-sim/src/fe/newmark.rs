@@ -13,7 +13,7 @@
 //! iteration, and the velocity and acceleration update done once, on commit
 //! ([`SpanNewmark::finish`]).
 
-use super::banded::{SymBanded, ToDense};
+use super::banded::{SymBanded, SymSparse, ToDense};
 use super::cholesky::{Scratch, SparseCholesky};
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 
@@ -142,8 +142,8 @@ impl Newmark {
 #[derive(Debug)]
 pub struct SpanNewmark {
     dt: f64,
-    m: SymBanded,
-    c: Option<SymBanded>,
+    m: SymSparse,
+    c: Option<SymSparse>,
     keff: SparseCholesky,
 }
 
@@ -166,8 +166,8 @@ impl SpanNewmark {
         let keff = SparseCholesky::new(&keff).map_err(|e| format!("effective stiffness: {e}"))?;
         Ok(SpanNewmark {
             dt,
-            m: m.clone(),
-            c,
+            m: SymSparse::new(m),
+            c: c.as_ref().map(SymSparse::new),
             keff,
         })
     }
@@ -175,6 +175,12 @@ impl SpanNewmark {
     /// The fixed step (s).
     pub fn time_step(&self) -> f64 {
         self.dt
+    }
+
+    /// Stored values and indices of M, C and the factor, in words.
+    pub fn storage_words(&self) -> usize {
+        2 * (self.m.nonzeros() + self.c.as_ref().map_or(0, SymSparse::nonzeros))
+            + self.keff.factor_nonzeros()
     }
 
     /// The effective stiffness factor.
@@ -192,11 +198,11 @@ impl SpanNewmark {
         pred.axpy(a0, &from.d, 1.0);
         pred.axpy(a2, &from.v, 1.0);
         rhs.fill(0.0);
-        self.m.mul_acc(1.0, pred.as_slice(), rhs.as_mut_slice());
+        self.m.mul_acc(pred.as_slice(), rhs.as_mut_slice());
         if let Some(c) = &self.c {
             pred.copy_from(&from.v);
             pred.axpy(a1, &from.d, 1.0);
-            c.mul_acc(1.0, pred.as_slice(), rhs.as_mut_slice());
+            c.mul_acc(pred.as_slice(), rhs.as_mut_slice());
         }
     }
 
