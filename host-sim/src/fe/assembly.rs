@@ -1,21 +1,23 @@
 //! One simply supported span: node layout, supports, assembled stiffness and mass on the free
 //! DOFs, load distribution (Eq. 15) and interpolation (Eq. 16).
 //!
-//! Why per span and dense: spans of a [`crate::guideway::Bridge`] are separate beams, simply
+//! Why per span and banded: spans of a [`crate::guideway::Bridge`] are separate beams, simply
 //! supported at each end with their own end nodes, so the structure matrices are exactly
-//! block-diagonal over spans and each span is solved on its own. A span of 20 elements has
-//! 119 free DOFs; a dense Cholesky factor of that size costs ~0.6 Mflop once and ~14 kflop per
-//! solve, less than a banded or sparse solver's bookkeeping at this size, and stays exact.
-//! Spans of equal length share one model (see [`super::FeGuideway`]), so a long viaduct of
-//! equal spans factorises once.
+//! block-diagonal over spans and each span is solved on its own. Within a span the DOFs are
+//! numbered node by node, so K and M are banded (half-bandwidth ≤ 11 on the free DOFs) and
+//! are stored as such ([`SymBanded`]): memory and products O(n·b), never O(n²). Spans of
+//! equal length share one model (see [`super::FeGuideway`]), so a long viaduct of equal spans
+//! assembles and factorises once.
 //!
 //! Supports (fork bearings): v, w and θx fixed at both ends, u fixed at the left end only,
 //! θy and θz free.
 
+use super::banded::SymBanded;
+use super::cholesky::SparseCholesky;
 use super::element;
 use crate::guideway::{BeamSection, PointMotion, SectionMotion};
 use maglev_core::gap::{dof, locate, ElementVector, WheelShape, DOFS_PER_NODE, ELEMENT_DOFS};
-use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+use nalgebra::DVector;
 
 /// Family of a DOF, used to classify modes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -53,10 +55,10 @@ pub struct SpanModel {
     free_index: Vec<Option<usize>>,
     /// Free DOF index → full DOF index.
     full_index: Vec<usize>,
-    /// Stiffness on the free DOFs.
-    pub k: DMatrix<f64>,
-    /// Consistent mass on the free DOFs.
-    pub m: DMatrix<f64>,
+    /// Stiffness on the free DOFs (banded).
+    pub k: SymBanded,
+    /// Consistent mass on the free DOFs (banded).
+    pub m: SymBanded,
 }
 
 impl SpanModel {
@@ -97,8 +99,17 @@ impl SpanModel {
         let n = full_index.len();
         let ke = element::stiffness(section, le);
         let me = element::mass(section, le);
-        let mut k = DMatrix::zeros(n, n);
-        let mut m = DMatrix::zeros(n, n);
+        // Half-bandwidth: the widest free-index distance within one element.
+        let band = (0..elements)
+            .map(|e| {
+                let dofs = e * DOFS_PER_NODE..e * DOFS_PER_NODE + ELEMENT_DOFS;
+                let f: Vec<usize> = dofs.filter_map(|i| free_index[i]).collect();
+                f.iter().max().unwrap_or(&0) - f.iter().min().unwrap_or(&0)
+            })
+            .max()
+            .unwrap_or(0);
+        let mut k = SymBanded::zeros(n, band);
+        let mut m = SymBanded::zeros(n, band);
         for e in 0..elements {
             let base = e * DOFS_PER_NODE;
             for i in 0..ELEMENT_DOFS {
@@ -109,8 +120,10 @@ impl SpanModel {
                     let Some(fj) = free_index[base + j] else {
                         continue;
                     };
-                    k[(fi, fj)] += ke[(i, j)];
-                    m[(fi, fj)] += me[(i, j)];
+                    if fi >= fj {
+                        k.add_lower(fi, fj, ke[(i, j)]);
+                        m.add_lower(fi, fj, me[(i, j)]);
+                    }
                 }
             }
         }
@@ -213,8 +226,7 @@ impl SpanModel {
 
     /// Cholesky factor of the stiffness (for static solves); fails if K is not positive
     /// definite (it is, for a supported span with positive properties).
-    pub fn stiffness_factor(&self) -> Result<Cholesky<f64, Dyn>, String> {
-        Cholesky::new(self.k.clone())
-            .ok_or_else(|| "span stiffness is not positive definite".into())
+    pub fn stiffness_factor(&self) -> Result<SparseCholesky, String> {
+        SparseCholesky::new(&self.k).map_err(|e| format!("span stiffness: {e}"))
     }
 }

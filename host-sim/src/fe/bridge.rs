@@ -7,6 +7,19 @@
 //! at rest and unloaded stays at rest and is skipped, so only the spans under or behind the
 //! train cost anything.
 //!
+//! The step (model.md §7, Eq. 19) is linear in the wheel loads: d₁ = Keff⁻¹ (r + F) with r
+//! the load-free right-hand side from the committed state. Each span therefore computes r
+//! once per step (on the first [`Guideway::solve_step`] after a commit), and each
+//! Newton–Raphson iteration costs one sparse forward/back substitution on the *loaded* spans
+//! only (an unloaded span's response, Keff⁻¹ r, is solved once per step and kept). Velocity
+//! and acceleration are completed once, on commit. Queries ([`Guideway::motion_at`],
+//! [`Guideway::section_at`]) read 12 DOFs of one element. Nothing in the time loop allocates.
+//!
+//! Why not a flexibility matrix at the wheels: it needs one solve per wheel and direction
+//! per step (the wheels move), 2·m solves for m wheels on a span, against one solve per
+//! iteration here; with 2–4 iterations per step the direct solve is cheaper for any m ≥ 1
+//! (the 12-car train has ≈ 19 wheels per span).
+//!
 //! Wheel loads and guideway motion use the paper's cubic Hermite interpolation (Eq. 15, 16,
 //! via [`maglev_core::gap::WheelShape`]), not the Timoshenko element's own shear-dependent
 //! shapes. The two are work-conjugate, so energy and reciprocity hold exactly, but a load
@@ -15,36 +28,104 @@
 //! exact.
 
 use super::assembly::SpanModel;
-use super::newmark::{Newmark, Rayleigh, State};
+use super::cholesky::{Scratch, SparseCholesky};
+use super::newmark::{Rayleigh, SpanNewmark, State};
 use crate::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
-use nalgebra::{Cholesky, DVector, Dyn};
+use nalgebra::DVector;
+use rayon::prelude::*;
 
 /// One distinct span model with its integrator and static factor.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 struct SpanSystem {
     model: SpanModel,
-    newmark: Newmark,
-    static_factor: Cholesky<f64, Dyn>,
+    newmark: SpanNewmark,
+    static_factor: SparseCholesky,
 }
 
-/// Per-span state.
-#[derive(Clone, Debug)]
+/// Per-span state and preallocated work space.
+#[derive(Debug)]
 struct Span {
     start: f64,
     system: usize,
     committed: State,
+    /// Trial state: `d` after each [`Guideway::solve_step`]; `v` and `a` completed on commit.
     trial: State,
+    /// Nodal loads of the current iteration (Eq. 15).
     load: DVector<f64>,
+    /// The step's load-free right-hand side (valid when `free_valid`).
+    rhs_free: DVector<f64>,
+    /// Scratch for the right-hand-side predictor.
+    pred: DVector<f64>,
+    scratch: Scratch,
     committed_at_rest: bool,
     trial_at_rest: bool,
+    /// Loaded in the current iteration.
+    loaded: bool,
+    /// `rhs_free` is computed for the current step.
+    free_valid: bool,
+    /// `trial.d` is the unloaded response of the current step.
+    trial_is_free: bool,
+}
+
+impl Span {
+    /// The trial displacement for this iteration's loads (module docs).
+    fn advance(&mut self, sys: &SpanSystem) {
+        if self.committed_at_rest && !self.loaded {
+            if !self.trial_at_rest {
+                self.trial.d.fill(0.0);
+                self.trial_at_rest = true;
+            }
+            return;
+        }
+        self.trial_at_rest = false;
+        if !self.free_valid {
+            if self.committed_at_rest {
+                self.rhs_free.fill(0.0);
+            } else {
+                sys.newmark
+                    .free_rhs(&self.committed, &mut self.pred, &mut self.rhs_free);
+            }
+            self.free_valid = true;
+            self.trial_is_free = false;
+        }
+        if self.loaded {
+            self.trial.d.copy_from(&self.rhs_free);
+            self.trial.d += &self.load;
+            sys.newmark
+                .solve_in_place(&mut self.trial.d, &mut self.scratch);
+            self.trial_is_free = false;
+        } else if !self.trial_is_free {
+            self.trial.d.copy_from(&self.rhs_free);
+            sys.newmark
+                .solve_in_place(&mut self.trial.d, &mut self.scratch);
+            self.trial_is_free = true;
+        }
+    }
+
+    /// Accept the trial displacement; complete velocity and acceleration.
+    fn commit(&mut self, sys: &SpanSystem) {
+        // A trial at rest implies a committed state at rest (see `advance`): nothing to do.
+        if !self.trial_at_rest {
+            sys.newmark.finish(&mut self.committed, &mut self.trial);
+        }
+        self.committed_at_rest = self.trial_at_rest;
+        self.free_valid = false;
+        self.trial_is_free = false;
+    }
 }
 
 /// The FE guideway (see the module docs).
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct FeGuideway {
     dt: f64,
     systems: Vec<SpanSystem>,
     spans: Vec<Span>,
+    /// Spans loaded in the current iteration (capacity: every span, so pushes never allocate).
+    loaded: Vec<usize>,
+    /// Advance the spans on rayon's pool.
+    parallel: bool,
+    /// A solve since the last commit.
+    solved: bool,
 }
 
 impl FeGuideway {
@@ -71,7 +152,7 @@ impl FeGuideway {
                 Some(i) => i,
                 None => {
                     let model = SpanModel::new(&bridge.section, length, elements_per_span)?;
-                    let newmark = Newmark::new(&model.k, &model.m, damping, dt)?;
+                    let newmark = SpanNewmark::new(&model.k, &model.m, damping, dt)?;
                     let static_factor = model.stiffness_factor()?;
                     systems.push(SpanSystem {
                         model,
@@ -81,19 +162,58 @@ impl FeGuideway {
                     systems.len() - 1
                 }
             };
-            let n = systems[system].model.free_dofs();
+            let sys = &systems[system];
+            let n = sys.model.free_dofs();
             spans.push(Span {
                 start,
                 system,
                 committed: State::zeros(n),
                 trial: State::zeros(n),
                 load: DVector::zeros(n),
+                rhs_free: DVector::zeros(n),
+                pred: DVector::zeros(n),
+                scratch: sys.newmark.factor().scratch(),
                 committed_at_rest: true,
                 trial_at_rest: true,
+                loaded: false,
+                free_valid: false,
+                trial_is_free: false,
             });
             start += length;
         }
-        Ok(FeGuideway { dt, systems, spans })
+        let loaded = Vec::with_capacity(spans.len());
+        Ok(FeGuideway {
+            dt,
+            systems,
+            spans,
+            loaded,
+            parallel: false,
+            solved: false,
+        })
+    }
+
+    /// Advance the spans of each step on rayon's thread pool (off by default). Results are
+    /// bit-identical either way: each span's arithmetic is the same and independent.
+    pub fn set_parallel(&mut self, parallel: bool) {
+        self.parallel = parallel;
+    }
+
+    /// Stored entries of the band matrices, the sparse products and factors (values; factor
+    /// indices not counted) plus the per-span vectors, in 8-byte words: O(n·b) per span.
+    pub fn storage_words(&self) -> usize {
+        let systems: usize = self
+            .systems
+            .iter()
+            .map(|s| {
+                let n = s.model.free_dofs();
+                let band = |b: usize| n * (b + 1);
+                2 * band(s.model.k.bandwidth())
+                    + s.newmark.storage_words()
+                    + s.static_factor.factor_nonzeros()
+            })
+            .sum();
+        let spans: usize = self.spans.iter().map(|s| 9 * s.load.len()).sum();
+        systems + spans
     }
 
     /// Number of spans.
@@ -111,7 +231,9 @@ impl FeGuideway {
         &self.systems[self.spans[i].system].model
     }
 
-    /// Trial state of span `i` (free DOFs; see [`SpanModel`]).
+    /// Trial state of span `i` (free DOFs; see [`SpanModel`]). Its displacement is current
+    /// after every `solve_step`; its velocity and acceleration are completed on `commit`
+    /// (after a commit the trial equals the committed state).
     pub fn trial_state(&self, i: usize) -> &State {
         &self.spans[i].trial
     }
@@ -136,11 +258,14 @@ impl FeGuideway {
     }
 
     /// Loads on the free DOFs of every span (Eq. 15); loads off the bridge are ignored.
+    /// Clears only the spans loaded in the previous iteration: O(loads + loaded DOFs).
     fn distribute(&mut self, loads: &[PointLoad]) {
-        for s in &mut self.spans {
+        for &i in &self.loaded {
+            let s = &mut self.spans[i];
             s.load.fill(0.0);
-            s.trial_at_rest = s.committed_at_rest;
+            s.loaded = false;
         }
+        self.loaded.clear();
         for p in loads {
             if let Some((i, local)) = self.find(p.x) {
                 let span = &mut self.spans[i];
@@ -152,7 +277,10 @@ impl FeGuideway {
                     p.fz,
                     &mut span.load,
                 );
-                span.trial_at_rest = false;
+                if !span.loaded {
+                    span.loaded = true;
+                    self.loaded.push(i);
+                }
             }
         }
     }
@@ -174,7 +302,11 @@ impl FeGuideway {
         self.spans
             .iter()
             .zip(f)
-            .map(|(s, f)| self.systems[s.system].static_factor.solve(&f))
+            .map(|(s, mut f)| {
+                let factor = &self.systems[s.system].static_factor;
+                factor.solve_in_place(f.as_mut_slice(), &mut factor.scratch());
+                f
+            })
             .collect()
     }
 
@@ -204,19 +336,17 @@ impl Guideway for FeGuideway {
 
     fn solve_step(&mut self, loads: &[PointLoad]) {
         self.distribute(loads);
-        for span in &mut self.spans {
-            if span.trial_at_rest {
-                span.trial.d.fill(0.0);
-                span.trial.v.fill(0.0);
-                span.trial.a.fill(0.0);
-            } else {
-                self.systems[span.system].newmark.step_into(
-                    &span.committed,
-                    &span.load,
-                    &mut span.trial,
-                );
+        let systems = &self.systems;
+        if self.parallel {
+            self.spans
+                .par_iter_mut()
+                .for_each(|s| s.advance(&systems[s.system]));
+        } else {
+            for s in &mut self.spans {
+                s.advance(&systems[s.system]);
             }
         }
+        self.solved = true;
     }
 
     fn motion_at(&self, x: f64, ey: f64, ez: f64) -> PointMotion {
@@ -235,11 +365,19 @@ impl Guideway for FeGuideway {
     }
 
     fn commit(&mut self) {
-        for span in &mut self.spans {
-            if !(span.trial_at_rest && span.committed_at_rest) {
-                span.committed.clone_from(&span.trial);
-            }
-            span.committed_at_rest = span.trial_at_rest;
+        if !self.solved {
+            return;
         }
+        let systems = &self.systems;
+        if self.parallel {
+            self.spans
+                .par_iter_mut()
+                .for_each(|s| s.commit(&systems[s.system]));
+        } else {
+            for s in &mut self.spans {
+                s.commit(&systems[s.system]);
+            }
+        }
+        self.solved = false;
     }
 }

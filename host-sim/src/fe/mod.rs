@@ -3,6 +3,8 @@
 //! 19).
 //!
 //! - [`element`]: the 12-DOF element matrices;
+//! - [`banded`]: symmetric band storage of the span matrices;
+//! - [`cholesky`]: sparse Cholesky (faer, AMD ordering) of the span's effective stiffness;
 //! - [`assembly`]: one span, supports, load distribution and interpolation;
 //! - [`newmark`]: average-acceleration Newmark with a once-factorised effective stiffness;
 //! - [`bridge`]: [`FeGuideway`], a whole [`crate::guideway::Bridge`] behind the
@@ -26,12 +28,15 @@
 //! assert!(z_g < 0.0);
 //! ```
 pub mod assembly;
+pub mod banded;
 pub mod bridge;
+pub mod cholesky;
 pub mod element;
 pub mod modes;
 pub mod newmark;
 
 pub use assembly::{DofFamily, SpanModel};
+pub use banded::{SymBanded, SymSparse};
 pub use bridge::FeGuideway;
 pub use modes::{natural_modes, Mode, ModeKind};
-pub use newmark::{Newmark, Rayleigh, State};
+pub use newmark::{Newmark, Rayleigh, SpanNewmark, State};

@@ -79,8 +79,9 @@ fn find(parent: &mut [usize], mut i: usize) -> usize {
 fn blocks(model: &SpanModel) -> Vec<Vec<usize>> {
     let n = model.free_dofs();
     let mut parent: Vec<usize> = (0..n).collect();
+    let band = model.k.bandwidth().max(model.m.bandwidth());
     for i in 0..n {
-        for j in 0..i {
+        for j in i.saturating_sub(band)..i {
             if model.k[(i, j)] != 0.0 || model.m[(i, j)] != 0.0 {
                 let (a, b) = (find(&mut parent, i), find(&mut parent, j));
                 parent[a.max(b)] = a.min(b);

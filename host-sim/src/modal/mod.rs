@@ -9,13 +9,16 @@
 //!
 //! - [`modes`]: per-term mass/stiffness from the Galerkin projection, natural frequencies.
 //! - [`newmark`]: the per-term Newmark (γ = ½, β = ¼) stepper.
-//! - [`span`]: [`ModalGuideway`], the series on one span behind the `Guideway` trait.
+//! - [`span`]: [`ModalGuideway`], the series on one span behind the `Guideway` trait;
+//! - [`viaduct`]: [`ModalViaduct`], one series per span of a line of simply supported spans.
 pub mod modes;
 pub mod newmark;
 pub mod span;
+pub mod viaduct;
 
 pub use modes::{natural_frequencies, ModeFrequencies, PlaneProperties, TorsionProperties};
 pub use span::{ModalError, ModalGuideway};
+pub use viaduct::ModalViaduct;
 
 /// Default number of series terms per field.
 ///

@@ -1,0 +1,77 @@
+//! The FE guideway's time loop does not allocate: a counting global allocator (this test
+//! binary only) counts the allocations made on this thread by `solve_step`, `motion_at`,
+//! `section_at` and `commit` over a train crossing three spans, serial mode. (The rayon mode
+//! hands work to the pool, whose job queues may allocate; it is not covered.)
+
+use maglev_host_sim::fe::FeGuideway;
+use maglev_host_sim::guideway::{BeamSection, Bridge, Guideway, PointLoad};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+struct Counting;
+
+thread_local! {
+    static COUNT: Cell<usize> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        COUNT.with(|c| c.set(c.get() + 1));
+        System.alloc(layout)
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout)
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        COUNT.with(|c| c.set(c.get() + 1));
+        System.realloc(ptr, layout, new_size)
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+fn count() -> usize {
+    COUNT.with(|c| c.get())
+}
+
+#[test]
+fn time_loop_does_not_allocate() {
+    let bridge = Bridge {
+        section: BeamSection::paper_4_2(),
+        spans: vec![30.0; 3],
+    };
+    let dt = 2e-3;
+    let mut fe = FeGuideway::new(&bridge, 16, dt).unwrap();
+    let mut loads = vec![PointLoad::default(); 32];
+    let before = count();
+    let mut sum = 0.0;
+    for n in 1..=800 {
+        let lead = 83.33 * dt * n as f64;
+        for (j, l) in loads.iter_mut().enumerate() {
+            *l = PointLoad {
+                x: lead - 1.5625 * j as f64,
+                ey: 1.5,
+                ez: 0.6,
+                fy: 1e3,
+                fz: -25e3,
+            };
+        }
+        for _ in 0..3 {
+            fe.solve_step(&loads);
+            sum += loads
+                .iter()
+                .map(|l| fe.motion_at(l.x, l.ey, l.ez).z)
+                .sum::<f64>();
+        }
+        fe.commit();
+        sum += fe.section_at(45.0).z;
+    }
+    let allocations = count() - before;
+    assert!(sum < 0.0, "the loads deflect the spans");
+    assert_eq!(allocations, 0, "allocations in the time loop");
+    // The counter works: an allocation is seen.
+    let v = std::hint::black_box(vec![1u8; 10]);
+    assert_eq!(count() - before, 1);
+    drop(v);
+}
