@@ -1,4 +1,4 @@
-//! Gap geometry and the wheel on its target nodes (model.md §2, §5; paper Eq. 2, 15, 16).
+//! Gap geometry and the wheel on its target nodes (docs/model.md §2, §5; paper Eq. 2, 15, 16).
 //!
 //! [`Geometry`] holds the one definition of the gap (Eq. 2, both readings) and of the
 //! guidance pair's net force; every simulator, the firmware coupling, the stability analysis
@@ -11,7 +11,7 @@
 //! the 12 DOFs of a two-node beam element, displacement is `N · d` and force is `Nᵀ G`.
 //!
 //! Element DOF order (per node, node 1 then node 3 in the paper's naming, here nodes 0 and 1):
-//! `(u, v, w, θx, θy, θz)`, see [`dof`]. Axes (model.md §0): X along the beam, Z up, Y
+//! `(u, v, w, θx, θy, θz)`, see [`dof`]. Axes (docs/model.md §0): X along the beam, Z up, Y
 //! completing a right-handed set; rotations are right-handed about the axes, so for bending
 //! θy = −∂w/∂x and θz = +∂v/∂x.
 //!
@@ -50,7 +50,7 @@ fn c<T: RealField + Copy>(x: f64) -> T {
 }
 
 /// Cubic Hermite shape functions for `(w1, θy1, w3, θy3)` at `x2` from node 1 in an element of
-/// length `l` (model.md §5, used by Eq. 15 and 16). The minus signs on N2 and N4 come from
+/// length `l` (docs/model.md §5, used by Eq. 15 and 16). The minus signs on N2 and N4 come from
 /// θy = −∂w/∂x.
 pub fn hermite_z<T: RealField + Copy>(x2: T, l: T) -> Vector4<T> {
     let s = x2 / l;
@@ -68,13 +68,13 @@ pub fn hermite_z<T: RealField + Copy>(x2: T, l: T) -> Vector4<T> {
 }
 
 /// Cubic Hermite shape functions for `(v1, θz1, v3, θz3)`: as [`hermite_z`] with the
-/// rotation functions sign-flipped, because θz = +∂v/∂x (model.md §5).
+/// rotation functions sign-flipped, because θz = +∂v/∂x (docs/model.md §5).
 pub fn hermite_y<T: RealField + Copy>(x2: T, l: T) -> Vector4<T> {
     let n = hermite_z(x2, l);
     Vector4::new(n[0], -n[1], n[2], -n[3])
 }
 
-/// Linear shape functions for torsion `(θx1, θx3)` (model.md §5).
+/// Linear shape functions for torsion `(θx1, θx3)` (docs/model.md §5).
 pub fn linear<T: RealField + Copy>(x2: T, l: T) -> Vector2<T> {
     let s = x2 / l;
     Vector2::new(T::one() - s, s)
@@ -126,7 +126,7 @@ pub fn locate<T: RealField + Copy>(nodes: &[T], x: T) -> Option<Located<T>> {
 }
 
 /// The interpolation rows of a point on the element, offset from the beam axis by a rigid
-/// link `(ΔY, ΔZ) = (ey, ez)` (model.md §5, Eq. 15 and 16).
+/// link `(ΔY, ΔZ) = (ey, ez)` (docs/model.md §5, Eq. 15 and 16).
 ///
 /// With `d` the element's 12 DOFs: `z_g = z · d`, `y_g = y · d`, `θx = rx · d`, and the rigid
 /// link's rotation share is included (`z_g += θx ΔY`, `y_g −= θx ΔZ`: a rotation θx about X

@@ -1,4 +1,4 @@
-//! Guidance: a pair of opposing magnets per wheel for the Y direction (model.md §2).
+//! Guidance: a pair of opposing magnets per wheel for the Y direction (docs/model.md §2).
 //!
 //! The paper gives i0 and h0 "considering the Y and Z direction electromagnetic forces" but no
 //! guidance layout. Our decision: each wheel carries two opposing magnets, left (−Y face) and

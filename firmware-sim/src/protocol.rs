@@ -1,7 +1,7 @@
 //! The wire protocol between the host (plant, lockstep driver) and the firmware.
 //!
 //! Why this shape: the host couples the firmware into a Newton–Raphson loop that may run one
-//! time step several times (model.md §7). So a [`Request::Step`] always starts from the
+//! time step several times (docs/model.md §7). So a [`Request::Step`] always starts from the
 //! firmware's *committed* state and is idempotent; only [`Request::Commit`] moves the
 //! committed state forward. A retransmitted request (same `seq`) is answered from the
 //! firmware's reply cache, never executed twice, so lost or corrupted frames can be retried

@@ -1,4 +1,4 @@
-//! The interface every guideway model offers to the coupling loop (model.md §7).
+//! The interface every guideway model offers to the coupling loop (docs/model.md §7).
 //!
 //! Why an interface: the vehicle and the guideway share no stiffness or mass (the magnet force
 //! is their only link), so the global Newmark system of the paper is block-diagonal between
@@ -7,7 +7,7 @@
 //! reference (`modal`) both implement [`Guideway`], so the same coupling, vehicles and
 //! scenarios drive either.
 //!
-//! Axes and signs (model.md §0): X along the track, Z up, displacements positive along the
+//! Axes and signs (docs/model.md §0): X along the track, Z up, displacements positive along the
 //! axes. SI units throughout.
 
 /// Properties of a straight prismatic beam, SI units.
@@ -36,7 +36,7 @@ pub struct BeamSection {
 }
 
 impl BeamSection {
-    /// The §4.2 beam of the paper (model.md §9), converted from kN/m², t/m to SI.
+    /// The §4.2 beam of the paper (docs/model.md §9), converted from kN/m², t/m to SI.
     pub fn paper_4_2() -> Self {
         BeamSection {
             youngs_modulus: 3.6e7 * 1e3,
@@ -65,7 +65,7 @@ impl BeamSection {
 }
 
 /// A line of simply supported spans along X starting at x = 0. Outside `[0, total length]`
-/// the guideway is rigid (model.md §9).
+/// the guideway is rigid (docs/model.md §9).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Bridge {
     pub section: BeamSection,
@@ -80,7 +80,7 @@ impl Bridge {
 }
 
 /// A force applied to the guideway at a point offset from the beam axis by a rigid link
-/// (model.md §5). Forces are those acting *on the guideway* (a magnet pulling itself up pulls
+/// (docs/model.md §5). Forces are those acting *on the guideway* (a magnet pulling itself up pulls
 /// the rail down: `fz = -G`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PointLoad {

@@ -1,5 +1,5 @@
 //! The vehicle's time integrator: the FE's average-acceleration Newmark ([`crate::fe::Newmark`],
-//! γ = ½, β = ¼, model.md §7) with a general damping matrix, wrapped in the coupling protocol
+//! γ = ½, β = ¼, docs/model.md §7) with a general damping matrix, wrapped in the coupling protocol
 //! of [`crate::guideway::Guideway`]: `solve` restarts from the committed state at every call
 //! (one Newton–Raphson iteration), `commit` accepts the trial. Zero-mass DOFs (massless
 //! maglev wheels) are allowed as long as damping or stiffness holds each of them.

@@ -105,7 +105,7 @@ pub enum VehicleSection {
         target_height_m: f64,
         body_height_m: f64,
         wheel_mass_kg: f64,
-        /// How the magnets face their rails (model.md §2); default `paper`.
+        /// How the magnets face their rails (docs/model.md §2); default `paper`.
         #[serde(default)]
         geometry: GeometryKey,
     },
@@ -542,7 +542,7 @@ impl Scenario {
     }
 
     /// The levitation law (`controller.law`); the paper's without a controller section.
-    /// The vehicle's magnet geometry (model.md §2): `paper` unless the scenario says `ems`.
+    /// The vehicle's magnet geometry (docs/model.md §2): `paper` unless the scenario says `ems`.
     pub fn geometry(&self) -> Geometry {
         match &self.vehicle {
             VehicleSection::Fig1 { geometry, .. } => (*geometry).into(),

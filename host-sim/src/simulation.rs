@@ -1,4 +1,4 @@
-//! Vehicle–guideway coupling in step-lockstep with the magnets' controllers (model.md §7):
+//! Vehicle–guideway coupling in step-lockstep with the magnets' controllers (docs/model.md §7):
 //! the one Newton–Raphson loop of the project, shared by `maglev run` and `maglev hil`.
 //!
 //! Each time step runs a Newton–Raphson (fixed-point) loop on the wheel forces:
@@ -47,7 +47,7 @@ pub struct MovingLoad {
     pub ez: f64,
 }
 
-/// Rail irregularity profiles r_y(x), r_z(x) (m), shared by every wheel (model.md §3).
+/// Rail irregularity profiles r_y(x), r_z(x) (m), shared by every wheel (docs/model.md §3).
 pub struct Profiles {
     pub y: Box<dyn Fn(f64) -> f64>,
     pub z: Box<dyn Fn(f64) -> f64>,
@@ -82,7 +82,7 @@ pub struct Settings {
     pub controller: Params,
     /// Levitation law.
     pub law: Law,
-    /// How the magnets face their rails (Eq. 2 and the guidance pair's sign, model.md §2).
+    /// How the magnets face their rails (Eq. 2 and the guidance pair's sign, docs/model.md §2).
     pub geometry: Geometry,
     /// Convergence tolerance on the gaps between two iterations (m).
     pub tolerance: f64,
@@ -127,18 +127,18 @@ pub struct Outcome {
     pub profile: Vec<[f64; 3]>,
 }
 
-/// The three magnet gaps `[h_z, h_L, h_R]` (m) of a wheel's gaps (model.md §2).
+/// The three magnet gaps `[h_z, h_L, h_R]` (m) of a wheel's gaps (docs/model.md §2).
 pub fn magnet_gaps((hz, d): WheelGaps, h0: f64) -> [f64; 3] {
     let (hl, hr) = gap::guidance_gaps(h0, d);
     [hz, hl, hr]
 }
 
 /// Per wheel: the levitation gap `h_z` (m, Eq. 2) and the relative lateral position
-/// `d = y_w − y_g + r_y` (m, model.md §2; the guidance magnets' gaps are `h0 ± d`).
+/// `d = y_w − y_g + r_y` (m, docs/model.md §2; the guidance magnets' gaps are `h0 ± d`).
 pub type WheelGaps = (f64, f64);
 
 /// The magnets of a vehicle as the coupling loop sees them: forces from gaps, with a
-/// committed state and a trial state (model.md §7).
+/// committed state and a trial state (docs/model.md §7).
 pub trait Magnets {
     /// Per wheel `(G_z, G_y)` (N, magnet forces, positive up and along +Y) over step `step`
     /// ending at `t`, as the gaps move from `gaps_prev` (committed, at t − Δt) to `gaps_next`

@@ -1,4 +1,4 @@
-//! Vehicles (model.md §6, §9): lumped masses (Eq. 17), Kelvin–Voigt spring–dampers with
+//! Vehicles (docs/model.md §6, §9): lumped masses (Eq. 17), Kelvin–Voigt spring–dampers with
 //! rigid links (Eq. 18), and maglev wheels — the nodes that carry the magnets.
 //!
 //! The vehicle is written in deviations from its static equilibrium: gravity, the spring
@@ -13,7 +13,7 @@ use nalgebra::DMatrix;
 pub struct Wheel {
     /// X position at t = 0 (m).
     pub x0: f64,
-    /// Offset of its target point from the beam axis (rigid link, model.md §5), Y (m).
+    /// Offset of its target point from the beam axis (rigid link, docs/model.md §5), Y (m).
     pub ey: f64,
     /// Offset of its target point from the beam axis, Z (m).
     pub ez: f64,
@@ -22,7 +22,7 @@ pub struct Wheel {
     pub dof_z: usize,
 }
 
-/// Parameters of the Fig. 1 vehicle (SI), defaults from model.md §9.
+/// Parameters of the Fig. 1 vehicle (SI), defaults from docs/model.md §9.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fig1 {
     pub body_mass: f64,
@@ -127,7 +127,7 @@ pub fn add_link_spring(
 
 impl VehicleModel {
     /// The Fig. 1 car: rigid body on four maglev wheels. Wheel 1 leads on the line nearest
-    /// the beam axis; wheel 1 is at x = 0 at t = 0, the others behind it (model.md §9).
+    /// the beam axis; wheel 1 is at x = 0 at t = 0, the others behind it (docs/model.md §9).
     pub fn fig1(p: &Fig1, gravity: f64) -> Self {
         let n = 5 + 4 * 2;
         let mut m = DMatrix::zeros(n, n);

@@ -1,4 +1,4 @@
-//! FE guideway against closed forms (model.md §9 beam): Timoshenko bending frequencies,
+//! FE guideway against closed forms (docs/model.md §9 beam): Timoshenko bending frequencies,
 //! torsion frequency, static deflection and twist, Newmark energy and period.
 //!
 //! Every expected value is computed here from the beam properties and textbook formulas,

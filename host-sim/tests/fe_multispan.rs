@@ -1,6 +1,6 @@
 //! A moving force over three simply supported spans: the FE guideway against the modal
 //! reference over the same viaduct (an independent method: Fourier series per span,
-//! model.md §8) at every span's midspan, and both against the closed-form forced response of
+//! docs/model.md §8) at every span's midspan, and both against the closed-form forced response of
 //! each span's modal system while the force is on that span.
 
 use maglev_host_sim::fe::FeGuideway;

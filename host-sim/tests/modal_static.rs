@@ -2,7 +2,7 @@
 //! at midspan, against the closed-form static Timoshenko solutions:
 //!
 //! - midspan deflection P L³/(48 E I) + P L/(4 G A_s) (bending + shear);
-//! - support rotation P L²/(16 E I) (bending only), with the FE's signs (model.md §5):
+//! - support rotation P L²/(16 E I) (bending only), with the FE's signs (docs/model.md §5):
 //!   θy = −∂w/∂x, θz = +∂v/∂x;
 //! - midspan twist T L/(4 G J) for a central torque T = ey·Fz − ez·Fy, and the rigid-link
 //!   point motion z = w + θ·ey, y = v − θ·ez.
@@ -168,7 +168,7 @@ fn eccentric_forces_give_static_twist_and_link_motion() {
             first_omitted,
         );
 
-        // Rigid link (model.md §5): exact relation on the same state, so only rounding allowed.
+        // Rigid link (docs/model.md §5): exact relation on the same state, so only rounding allowed.
         assert!((r.pz - (r.z + r.rx * load.ey)).abs() < 1e-15);
         assert!((r.py - (r.y - r.rx * load.ez)).abs() < 1e-15);
         // Signs: the downward force at +ey twists the section negatively about X and the link

@@ -1,8 +1,8 @@
-//! An independent implementation of model.md §4 exactly as the paper writes Eq. 14: SI units,
+//! An independent implementation of docs/model.md §4 exactly as the paper writes Eq. 14: SI units,
 //! the coefficients A and B formed explicitly, `g` itself (not a deviation) as the state.
 //! Deliberately shares nothing with the core but the parameter values.
 
-/// Parameters in SI (the subset of model.md §4 the law uses).
+/// Parameters in SI (the subset of docs/model.md §4 the law uses).
 #[derive(Clone, Copy, Debug)]
 pub struct RefParams {
     pub i0: f64,

@@ -1,5 +1,5 @@
 //! `maglev control`'s engine (the core, driven by the host) against the independent
-//! implementation of model.md §4, and the fixed-point types against f64.
+//! implementation of docs/model.md §4, and the fixed-point types against f64.
 
 use maglev_core::{Interpolation, Params};
 use maglev_host_sim::cli::control::{run_trace_as, Row, ScalarKind, Trace};

@@ -23,7 +23,7 @@
 //! For a given gap history `η(t)` this is **linear** in `z = (x, y)`: `ż = J(t)·z + f(t)` with
 //! `J = [[−p(η)/τ, 1/τ], [−ki, 0]]`, `f = (−η/τ, 0)`. Inside the outer step `η` is the same
 //! polynomial the paper scheme uses, `η(s) = η0 + s·b1 + s²·b2`, `s = (t − t0)/Δt ∈ [0, 1]`
-//! (linear or parabolic interpolation, model.md §4), so `J` and `f` are smooth within the step
+//! (linear or parabolic interpolation, docs/model.md §4), so `J` and `f` are smooth within the step
 //! and the method keeps its full order there.
 //!
 //! # The method

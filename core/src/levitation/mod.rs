@@ -30,7 +30,7 @@
 //! a 32-bit fixed-point format ([`crate::scalar::I4F28`]) run it. Outputs are per unit:
 //! force `F/p0 = (1+x)²` (Eq. 1, 7), current `i/i0 = (1+x)(1+η)`, voltage `V/V_b`.
 //!
-//! # What the paper leaves open (model.md §4)
+//! # What the paper leaves open (docs/model.md §4)
 //! * Current never negative: `g ≥ 0` is enforced (`x ≥ −1`), flagged [`Status::CURRENT_CLAMPED`].
 //! * Supply voltage bounded by `±v_max`: if the unconstrained step would end beyond it, the
 //!   step is recomputed with the coil (Eq. 9, same α-weighting) driven at `±v_max` and the
@@ -61,7 +61,7 @@ use crate::scalar::Scalar;
 
 pub mod accurate;
 
-/// How the gap is interpolated inside one outer step for the internal loop (model.md §4).
+/// How the gap is interpolated inside one outer step for the internal loop (docs/model.md §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Interpolation {
@@ -651,7 +651,7 @@ impl<S: Scalar> Levitation<S> {
         Ok(())
     }
 
-    /// The state at equilibrium (model.md §4): `g = g0`, `KI·e_a = R0·i0`, the gap taken to
+    /// The state at equilibrium (docs/model.md §4): `g = g0`, `KI·e_a = R0·i0`, the gap taken to
     /// have been `h` (m) until now. Use [`Levitation::try_initial_state`] where `h` may be
     /// bad: here a NaN gap is taken as 0 (a collision state) without a flag.
     pub fn initial_state(&self, h: f64) -> State<S> {
@@ -669,7 +669,7 @@ impl<S: Scalar> Levitation<S> {
     /// The state in equilibrium *at gap `h`* (m): `g = g0` and the integral holding
     /// `V = R0·h·g0`, so a constant gap `h` is held exactly. Equal to
     /// [`Levitation::initial_state`] at `h = h0`; a vehicle that starts in static equilibrium
-    /// over an irregular rail (model.md §9) starts here.
+    /// over an irregular rail (docs/model.md §9) starts here.
     pub fn equilibrium_state(&self, h: f64) -> State<S> {
         let mut st = self.initial_state(h);
         st.y = st.eta;
@@ -715,7 +715,7 @@ impl<S: Scalar> Levitation<S> {
     }
 
     /// One outer step Δt: the gap moves from the state's last gap to `h_next` (per unit,
-    /// `h/h0`), interpolated inside the step (model.md §4), and the selected [`Scheme`] advances
+    /// `h/h0`), interpolated inside the step (docs/model.md §4), and the selected [`Scheme`] advances
     /// the coil + PI equations: Eq. 14 `n_sub` times, or the Gauss–Legendre intervals of
     /// [`accurate`]. Never panics; every anomaly is reported in [`Output::status`].
     ///
@@ -873,7 +873,7 @@ impl<S: Scalar> Levitation<S> {
         out
     }
 
-    /// Eq. 14 `n_sub` times over the outer step, the gap interpolated (model.md §4), with
+    /// Eq. 14 `n_sub` times over the outer step, the gap interpolated (docs/model.md §4), with
     /// the reference `g0·(1 + x_ref)`: returns the new `(x, y, v)`.
     #[allow(clippy::too_many_arguments)]
     fn paper_steps<const REF: bool>(

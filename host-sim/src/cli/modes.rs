@@ -1,5 +1,5 @@
 //! `maglev modes`: natural frequencies of the §4.2 beam (one simply supported span of 25 m,
-//! model.md §9) from the FE model, as JSON or CSV on stdout.
+//! docs/model.md §9) from the FE model, as JSON or CSV on stdout.
 
 use crate::fe::{natural_modes, SpanModel};
 use crate::guideway::BeamSection;

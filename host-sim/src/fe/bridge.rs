@@ -7,7 +7,7 @@
 //! at rest and unloaded stays at rest and is skipped, so only the spans under or behind the
 //! train cost anything.
 //!
-//! The step (model.md §7, Eq. 19) is linear in the wheel loads: d₁ = Keff⁻¹ (r + F) with r
+//! The step (docs/model.md §7, Eq. 19) is linear in the wheel loads: d₁ = Keff⁻¹ (r + F) with r
 //! the load-free right-hand side from the committed state. Each span therefore computes r
 //! once per step (on the first [`Guideway::solve_step`] after a commit), and each
 //! Newton–Raphson iteration costs one sparse forward/back substitution on the *loaded* spans

@@ -1,4 +1,4 @@
-//! Newmark time integration, γ = ½, β = ¼ (average acceleration; model.md §7, Eq. 19).
+//! Newmark time integration, γ = ½, β = ¼ (average acceleration; docs/model.md §7, Eq. 19).
 //!
 //! Why average acceleration: it is what the paper uses for both the FE and the modal model,
 //! it is unconditionally stable and, undamped, conserves the energy of a linear system exactly

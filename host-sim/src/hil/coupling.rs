@@ -1,5 +1,5 @@
 //! The firmware as the magnets of the shared coupling loop ([`crate::simulation::couple`],
-//! model.md §7): [`FirmwareMagnets`] wraps the [`Link`], the ADC board and the tick
+//! docs/model.md §7): [`FirmwareMagnets`] wraps the [`Link`], the ADC board and the tick
 //! interpolation, and keeps the HIL-only record (firmware events).
 //!
 //! Per iteration of a host step t → t+Δt: for each of the `Δt·rate` control ticks the gap

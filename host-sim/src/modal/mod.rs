@@ -1,5 +1,5 @@
 //! The modal (Fourier series) Timoshenko reference for one simply supported span
-//! (paper §4.1, Eq. 20a–e; model.md §8).
+//! (paper §4.1, Eq. 20a–e; docs/model.md §8).
 //!
 //! Why: the paper validates its FE guideway against this semi-analytical solution — exact in
 //! space for the truncated series, discretised only in time (Newmark, Δt = 1e-5 s in the

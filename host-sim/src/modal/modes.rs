@@ -1,5 +1,5 @@
 //! Per-mode Galerkin matrices and natural frequencies of a simply supported Timoshenko span
-//! (Eq. 20a–e, model.md §8).
+//! (Eq. 20a–e, docs/model.md §8).
 //!
 //! Derivation (bending, one plane). With φ the bending rotation of the section (φ ≈ ∂w/∂x
 //! when shear is negligible), the Timoshenko equations with the shear area A_s given directly
@@ -26,7 +26,7 @@
 //! ρI_p s̈_n + G J k_n² s_n = (2/L) Σ_i T_i sin(k_n x_i).
 //!
 //! With this normalisation q_n, r_n, s_n are the amplitudes of the series terms themselves.
-//! Sign link to the FE DOFs (model.md §5): in X–Z, θy = −φ; in X–Y, θz = +φ.
+//! Sign link to the FE DOFs (docs/model.md §5): in X–Z, θy = −φ; in X–Y, θz = +φ.
 
 use nalgebra::{Matrix2, SymmetricEigen};
 

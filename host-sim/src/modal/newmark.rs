@@ -1,5 +1,5 @@
 //! Newmark (γ = ½, β = ¼, average acceleration) for one small undamped system
-//! M ẍ + K x = f with fixed step (model.md §7, used per mode by the modal reference).
+//! M ẍ + K x = f with fixed step (docs/model.md §7, used per mode by the modal reference).
 //!
 //! Why per mode: the Galerkin modes of Eq. 20 decouple the span into independent 2-DOF
 //! (bending) and 1-DOF (torsion) systems, so each is advanced on its own with its effective

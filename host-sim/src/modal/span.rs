@@ -59,11 +59,11 @@ impl SpanState {
 type ModalForce = [f64; 3];
 
 /// The modal (Fourier series) Timoshenko reference for one simply supported span of length L
-/// starting at x = 0 (paper §4.1, Eq. 20a–e; model.md §8). Undamped, zero initial
+/// starting at x = 0 (paper §4.1, Eq. 20a–e; docs/model.md §8). Undamped, zero initial
 /// conditions, no axial vibration, no warping. Outside [0, L] the guideway is rigid.
 ///
 /// Series: w = Σ q_n sin(nπx/L), φ_Y = Σ r_n cos(nπx/L) (and the same for v, φ_Z),
-/// θ = Σ s_n sin(nπx/L), n = 1..=modes. Loads act through a rigid link (model.md §5):
+/// θ = Σ s_n sin(nπx/L), n = 1..=modes. Loads act through a rigid link (docs/model.md §5):
 /// torque about X is ey·fz − ez·fy; the point motion adds z += θ·ey, y −= θ·ez.
 ///
 /// The state before the first step is at rest with zero acceleration, i.e. the loads at
@@ -164,7 +164,7 @@ impl ModalGuideway {
     /// use maglev_host_sim::guideway::{BeamSection, Bridge, Guideway, PointLoad};
     /// use maglev_host_sim::modal::ModalGuideway;
     ///
-    /// // The §4.2 span (model.md §9): 25 m, simply supported.
+    /// // The §4.2 span (docs/model.md §9): 25 m, simply supported.
     /// let bridge = Bridge { section: BeamSection::paper_4_2(), spans: vec![25.0] };
     /// let mut g = ModalGuideway::from_bridge(&bridge, 40, 1e-5).unwrap();
     /// // One Newmark step with 36.79 kN pushing down at midspan, 1.5 m off the axis.
@@ -207,7 +207,7 @@ impl ModalGuideway {
     }
 
     /// Section rotations (θy, θz) of the trial state at `x`, with the FE's DOF signs
-    /// (model.md §5): θy = −φ_Y (≈ −∂w/∂x), θz = +φ_Z (≈ +∂v/∂x). Zero off the span.
+    /// (docs/model.md §5): θy = −φ_Y (≈ −∂w/∂x), θz = +φ_Z (≈ +∂v/∂x). Zero off the span.
     pub fn rotations_at(&self, x: f64) -> (f64, f64) {
         if !self.on_span(x) {
             return (0.0, 0.0);

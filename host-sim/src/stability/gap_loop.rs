@@ -92,7 +92,7 @@ impl GapLoopPlant {
         Ok(GapLoopPlant { a, states })
     }
 
-    /// The differential mode of a guidance pair under the same loop (model.md §2): each
+    /// The differential mode of a guidance pair under the same loop (docs/model.md §2): each
     /// magnet runs the loop on its own gap; with `d` in place of `z_m`, the suspension's
     /// lateral spring–damper and the same body mass, `x_d = σ_g·(x_L − x_R)/2` (σ_g the
     /// geometry's `guidance_sign`) sees `η_d = σ_g·(∂h_L/∂d)·d/h0` and gives the net force

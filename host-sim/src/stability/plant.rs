@@ -3,10 +3,10 @@
 //!
 //! # The plant (a minimal, documented choice)
 //! A body of mass `m_b` sits on a Kelvin–Voigt spring–damper (`k`, `c`; Fig. 1: 200 kN/m,
-//! 10 kN·s/m) above a magnet of mass `m_m` (model.md §9 default 0); the magnet pulls itself
+//! 10 kN·s/m) above a magnet of mass `m_m` (docs/model.md §9 default 0); the magnet pulls itself
 //! up towards a rigid rail with `F = K0·g²` (Eq. 1). The magnet carries everything:
 //! `p0 = (m_b + m_m)·9.81`, so `m_b = p0/9.81 − m_m` (with `m_m = 0`, `m_b = p0/9.81`).
-//! Z is up; the gap is `h = h0 + σ·z_m` with `σ = Geometry::levitation_sign()` (model.md §2
+//! Z is up; the gap is `h = h0 + σ·z_m` with `σ = Geometry::levitation_sign()` (docs/model.md §2
 //! with `z_g = r = 0`: `σ = −1` for "ems", `+1` for "paper"), so `η = σ·z_m/h0`.
 //!
 //! # Linearisation about the static equilibrium
@@ -68,7 +68,7 @@ pub struct Suspension {
 }
 
 impl Suspension {
-    /// Fig. 1: k = 200 kN/m, c = 10 kN·s/m, massless magnet (model.md §9 default).
+    /// Fig. 1: k = 200 kN/m, c = 10 kN·s/m, massless magnet (docs/model.md §9 default).
     pub const FIG1: Suspension = Suspension {
         magnet_mass: 0.0,
         k: 200e3,

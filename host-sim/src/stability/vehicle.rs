@@ -3,9 +3,9 @@
 //!
 //! # The system
 //! The vehicle is the scenario's [`VehicleModel`] (`M q̈ + C q̇ + K q = f`, deviations from
-//! static equilibrium, model.md §6). The rail is rigid and smooth (`z_g = y_g = r = 0`), so
+//! static equilibrium, docs/model.md §6). The rail is rigid and smooth (`z_g = y_g = r = 0`), so
 //! every gap is a function of the wheel node alone, through the core's geometry
-//! ([`Geometry`], model.md §2), linearised with the core's own derivatives:
+//! ([`Geometry`], docs/model.md §2), linearised with the core's own derivatives:
 //!
 //! ```text
 //! levitation:  η_z = levitation_sign·z_w/h0

@@ -5,7 +5,7 @@
 use maglev_host_sim::guideway::{BeamSection, Guideway, PointLoad};
 use maglev_host_sim::modal::ModalGuideway;
 
-/// §4.2 span length (m), model.md §9.
+/// §4.2 span length (m), docs/model.md §9.
 pub const L: f64 = 25.0;
 /// The force used throughout (N, magnitude; applied downward).
 pub const P: f64 = 36.79e3;
