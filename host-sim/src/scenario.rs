@@ -27,6 +27,14 @@ pub const BUNDLED: [(&str, &str); 3] = [
 /// vehicle passage; a larger count is a typo in dt or t_end far more often than intent.
 pub const MAX_STEPS: f64 = 1e7;
 
+/// The largest estimated condition number of an FE span's Newmark matrix (see
+/// `Scenario::check_fe_size`).
+pub const MAX_CONDITION: f64 = 1e10;
+
+/// The most FE DOFs a case may have: about 6 GB of banded model at ~70 doubles per DOF,
+/// and far beyond any span converged at 16 elements.
+pub const MAX_FE_DOFS: f64 = 1e7;
+
 pub const SHORT_KEYS: [(&str, &str); 12] = [
     ("speed", "run.speed_m_per_s"),
     ("model", "run.model"),
@@ -377,6 +385,9 @@ impl Scenario {
                 }
             }
         }
+        if self.run.model == Model::Fe {
+            self.check_fe_size()?;
+        }
         let steps = self.t_end() / self.run.dt_s;
         if steps.is_nan() || steps > MAX_STEPS {
             return Err(format!(
@@ -454,6 +465,44 @@ impl Scenario {
                     })
             })
             .collect())
+    }
+
+    /// Refuses FE discretisations whose Newmark matrix cannot be solved to useful precision
+    /// or that exceed the memory limit.
+    ///
+    /// Condition estimate of K + (4/Δt²)·M per span: its largest eigenvalue is at most about
+    /// the stiffest element term k_max = max(E·A/l, 12·E·I/l³, G·A_s/l) (l the element
+    /// length), its smallest at least the nodal mass term 4·m·l/Δt². Their ratio, plus one,
+    /// bounds the digits a solve loses; above [`MAX_CONDITION`] fewer than six of the sixteen
+    /// digits of f64 survive. Memory: [`MAX_FE_DOFS`] DOFs (the banded model holds about
+    /// 70 doubles per DOF).
+    fn check_fe_size(&self) -> Result<(), String> {
+        let b = self.bridge();
+        let s = &b.section;
+        let n = self.run.elements_per_span as f64;
+        let dofs = 6.0 * (n + 1.0) * b.spans.len() as f64;
+        if dofs > MAX_FE_DOFS {
+            return Err(format!(
+                "run.elements_per_span = {n} over {} span(s) is {dofs:.3e} FE DOFs, above the limit of {MAX_FE_DOFS:.0e}",
+                b.spans.len()
+            ));
+        }
+        let dt = self.run.dt_s;
+        for (i, &span) in b.spans.iter().enumerate() {
+            let l = span / n;
+            let k_max = (s.youngs_modulus * s.area / l)
+                .max(12.0 * s.youngs_modulus * s.iy.max(s.iz) / l.powi(3))
+                .max(s.shear_modulus * s.shear_area_y.max(s.shear_area_z) / l);
+            let m_min = 4.0 * s.mass_per_length * l / (dt * dt);
+            let cond = 1.0 + k_max / m_min;
+            if cond > MAX_CONDITION {
+                return Err(format!(
+                    "run.elements_per_span = {n}: span {} ({span} m) has {l:.3e} m elements whose Newmark matrix has an estimated condition number {cond:.1e}, above the limit of {MAX_CONDITION:.0e} (fewer than 6 significant digits would survive); use fewer elements or a larger run.dt_s",
+                    i + 1
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// The guideway model to run.

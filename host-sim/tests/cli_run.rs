@@ -191,3 +191,33 @@ fn probes_name_their_columns_and_body_acceleration_is_newmarks() {
         "{err}"
     );
 }
+
+#[test]
+fn oversized_cases_are_refused_with_one_line_naming_the_key_and_limit() {
+    for (set, key, limit) in [
+        ("elements=100000", "run.elements_per_span", "1e10"),
+        ("t_end=1e12", "run.t_end_s", "1e7"),
+        ("dt=1e-12", "run.dt_s", "1e7"),
+        (
+            "vehicle.target_height_m=nan",
+            "vehicle.target_height_m",
+            "finite",
+        ),
+        ("vehicle.offset_y_m=inf", "vehicle.offset_y_m", "finite"),
+    ] {
+        let d = out_dir("oversized");
+        let o = maglev(&[
+            "run",
+            "paper-4.2",
+            "--set",
+            set,
+            "--out",
+            d.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{set}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.lines().count(), 1, "{set}: {err}");
+        assert!(err.contains(key) && err.contains(limit), "{set}: {err}");
+        assert!(!d.exists(), "{set}: a refused run left an output directory");
+    }
+}
