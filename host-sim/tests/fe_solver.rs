@@ -245,13 +245,23 @@ fn passage(g: &mut impl Guideway) -> Outcome {
         tolerance: sc.run.tolerance_m,
         max_iterations: sc.run.max_iterations,
         midspan_x: 12.5,
+        midspans: vec![12.5],
+        geometry: sc.geometry(),
     };
     // A rail with a smooth but non-trivial irregularity so the Newton–Raphson loop works.
     let profiles = Profiles {
         y: Box::new(|x: f64| 1e-3 * (0.7 * x).sin()),
         z: Box::new(|x: f64| 2e-3 * (0.45 * x).cos()),
     };
-    simulate(g, &Load::Vehicle(v), &profiles, &settings, |_| {}).unwrap()
+    simulate(
+        g,
+        &Load::Vehicle(v),
+        &profiles,
+        &settings,
+        &mut maglev_host_sim::probes::NoRecorder,
+        |_| {},
+    )
+    .unwrap()
 }
 
 /// The §4.2 vehicle passage (Fig. 1 vehicle, 100 m/s, accurate scheme) through the coupling

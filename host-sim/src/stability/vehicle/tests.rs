@@ -158,6 +158,7 @@ fn disturbed(sets: &[&str], t_end: f64, step_m: f64) -> Vec<(f64, f64)> {
         &pa.load,
         &pa.profiles,
         &pa.settings,
+        &mut crate::probes::NoRecorder,
         |_| {},
     )
     .unwrap();
@@ -253,7 +254,7 @@ fn ems_gap_loop_passage_with_500_kg_magnets_keeps_every_gap() {
         .map(|s| s.to_string())
         .collect();
     let sc = scenario::load("paper-4.2", &sets).unwrap();
-    let (out, _) = crate::cli::run::execute(&sc, |_| {}).unwrap();
+    let (out, _) = crate::setup::run_scenario(&sc, &mut crate::probes::NoRecorder, |_| {}).unwrap();
     let h0 = sc.controller_params().unwrap().h0;
     assert_eq!(out.collision_steps, 0);
     for (w, r) in out.gap_ranges.iter().enumerate() {
