@@ -47,6 +47,7 @@ fn paper_geometry_flies_and_strict_passes() {
     assert_eq!(gaps.len(), 12, "4 wheels × (levitation + guidance pair)");
     let w1 = &gaps[0];
     assert_eq!(w1["magnet"], "wheel1.z");
+    // The same bits as the CSV's minimum (serde_json parses with `float_roundtrip`).
     let min = gap.iter().cloned().fold(f64::INFINITY, f64::min);
     assert_eq!(w1["min_m"].as_f64().unwrap(), min);
 }
