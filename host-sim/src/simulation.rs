@@ -299,7 +299,8 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     let mut unconverged = 0;
     let mut veh = Newmark::new(v.m.clone(), v.c.clone(), v.k.clone(), dt)?;
     let dofs: Vec<(usize, usize)> = v.wheels.iter().map(|w| (w.dof_y, w.dof_z)).collect();
-    let mut forces_now: Vec<(f64, f64)> = v.p0.iter().map(|&p0| (p0, 0.0)).collect();
+    // The static forces at t = 0; every iteration overwrites them.
+    let mut forces: Vec<(f64, f64)> = v.p0.iter().map(|&p0| (p0, 0.0)).collect();
     rec.record(&StepView {
         t: 0.0,
         guideway: &*guideway,
@@ -309,7 +310,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             a: veh.a().as_slice(),
             dofs: &dofs,
             gaps: &gaps_prev,
-            forces: &forces_now,
+            forces: &forces,
             h0,
             body_z: &v.cars,
         },
@@ -319,7 +320,6 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     let mut f = DVector::zeros(v.m.nrows());
     let mut loads = vec![PointLoad::default(); nw];
     let mut gaps_used = vec![(0.0, 0.0); nw];
-    let mut forces = vec![(0.0, 0.0); nw];
     for n in 1..=steps {
         let t = n as f64 * dt;
         let step = n as u32;
@@ -390,7 +390,6 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             }
         }
         collision_steps += usize::from(collision);
-        forces_now.copy_from_slice(&forces);
         rec.record(&StepView {
             t,
             guideway: &*guideway,
@@ -400,7 +399,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
                 a: veh.a().as_slice(),
                 dofs: &dofs,
                 gaps: &gaps_used,
-                forces: &forces_now,
+                forces: &forces,
                 h0,
                 body_z: &v.cars,
             },
