@@ -1,6 +1,7 @@
 //! Host-side simulators: the guideway (FE and modal reference), vehicles, coupling, CLI.
 pub mod bands;
 pub mod cli;
+pub mod error;
 pub mod fe;
 pub mod guideway;
 pub mod hil;
@@ -14,3 +15,5 @@ pub mod setup;
 pub mod simulation;
 pub mod stability;
 pub mod vehicle;
+
+pub use error::{Error, Result};
