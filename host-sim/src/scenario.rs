@@ -177,21 +177,73 @@ pub struct ControllerSection {
     pub ki_V_m_per_A_s: f64,
     pub alpha: f64,
     pub nsub: u32,
-    pub interp: String,
+    pub interp: InterpKey,
     pub vmax_V: f64,
     /// `paper` (Eq. 8–14 alone, the default) or `gap-loop` (the outer gap loop of
     /// `maglev_core::gap_control` at its designed gains around the paper's law).
-    #[serde(default = "default_law")]
-    pub law: String,
+    #[serde(default)]
+    pub law: LawKey,
     /// `paper` (Eq. 14 with `nsub` sub-steps, the default) or `accurate` (Gauss–Legendre).
-    #[serde(default = "default_scheme")]
-    pub scheme: String,
+    #[serde(default)]
+    pub scheme: SchemeKey,
 }
-fn default_law() -> String {
-    "paper".into()
+
+/// `controller.law`: which levitation law each magnet runs.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum LawKey {
+    /// The paper's PI law on `g = i/h` alone (Eq. 8–14).
+    #[default]
+    Paper,
+    /// The outer gap loop of `maglev_core::gap_control` around the paper's law.
+    GapLoop,
 }
-fn default_scheme() -> String {
-    "paper".into()
+
+/// `controller.interp`: the gap interpolation inside the outer step.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum InterpKey {
+    Linear,
+    Parabolic,
+}
+
+impl From<InterpKey> for Interpolation {
+    fn from(k: InterpKey) -> Self {
+        match k {
+            InterpKey::Linear => Interpolation::Linear,
+            InterpKey::Parabolic => Interpolation::Parabolic,
+        }
+    }
+}
+
+/// `controller.scheme`: the integrator of the coil + PI equations (`maglev_core::Scheme`).
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum SchemeKey {
+    /// The paper's Eq. 14, `nsub` times per step (first order).
+    #[default]
+    Paper,
+    /// Gauss–Legendre on the limit system (order 4); ignores `nsub` and `alpha`.
+    Accurate,
+}
+
+impl From<SchemeKey> for Scheme {
+    fn from(k: SchemeKey) -> Self {
+        match k {
+            SchemeKey::Paper => Scheme::Paper,
+            SchemeKey::Accurate => Scheme::Accurate,
+        }
+    }
+}
+
+impl SchemeKey {
+    /// The name as written in a scenario.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SchemeKey::Paper => "paper",
+            SchemeKey::Accurate => "accurate",
+        }
+    }
 }
 
 #[derive(Deserialize, Serialize, Debug, Clone)]
@@ -358,13 +410,6 @@ impl Scenario {
                 }
                 self.fig1()?;
                 self.controller_params()?;
-                // The law's name only: designing the gap loop's gains is the run's work.
-                let law = self.controller.as_ref().map_or("paper", |c| c.law.as_str());
-                if !matches!(law, "paper" | "gap-loop") {
-                    return Err(format!(
-                        "controller.law must be `paper` or `gap-loop`, got `{law}`"
-                    ));
-                }
             }
             VehicleSection::Forces { .. } => {
                 self.forces()?;
@@ -600,9 +645,9 @@ impl Scenario {
     }
 
     pub fn law(&self) -> Result<Law, String> {
-        match self.controller.as_ref().map_or("paper", |c| c.law.as_str()) {
-            "paper" => Ok(Law::Paper),
-            "gap-loop" => Ok(Law::GapLoop(match &self.vehicle {
+        match self.controller.as_ref().map_or(LawKey::Paper, |c| c.law) {
+            LawKey::Paper => Ok(Law::Paper),
+            LawKey::GapLoop => Ok(Law::GapLoop(match &self.vehicle {
                 // Gains designed for this scenario's vehicle, inner law and geometry
                 // (docs/gap-loop.md); a moving force has no magnets to run them.
                 VehicleSection::Fig1 { .. } => {
@@ -622,9 +667,6 @@ impl Scenario {
                     GapParams::designed()
                 }
             })),
-            other => Err(format!(
-                "controller.law must be `paper` or `gap-loop`, got `{other}`"
-            )),
         }
     }
 
@@ -634,24 +676,8 @@ impl Scenario {
             .controller
             .as_ref()
             .ok_or("the scenario has no [controller] section")?;
-        let interpolation = match c.interp.as_str() {
-            "linear" => Interpolation::Linear,
-            "parabolic" => Interpolation::Parabolic,
-            other => {
-                return Err(format!(
-                    "controller.interp must be `linear` or `parabolic`, got `{other}`"
-                ))
-            }
-        };
-        let scheme = match c.scheme.as_str() {
-            "paper" => Scheme::Paper,
-            "accurate" => Scheme::Accurate,
-            other => {
-                return Err(format!(
-                    "controller.scheme must be `paper` or `accurate`, got `{other}`"
-                ))
-            }
-        };
+        let interpolation = c.interp.into();
+        let scheme = c.scheme.into();
         let p = Params {
             i0: c.i0_A,
             h0: c.h0_m,
