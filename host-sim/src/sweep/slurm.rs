@@ -44,7 +44,6 @@ fn absolute(p: &Path, key: &str) -> Result<PathBuf> {
 pub fn scripts(e: &Emit) -> Vec<(&'static str, String)> {
     let n = e.shards;
     let out = &e.out;
-    let shard_dir = |i: String| format!("{}{}", sq(&out.join("shard-")), i);
     let logs = out.join("logs");
     let sweep = format!(
         r#"#!/bin/bash
@@ -65,9 +64,11 @@ exec "$MAGLEV" sweep {spec} --shard "$SLURM_ARRAY_TASK_ID/{n}" \
         log = logs.join("shard-%a.log").display(),
         bin = sq(&e.maglev),
         spec = sq(&e.spec),
-        dir = shard_dir("\"$SLURM_ARRAY_TASK_ID\"".into()),
+        dir = format!("{}\"$SLURM_ARRAY_TASK_ID\"", sq(&out.join("shard-"))),
     );
-    let shards: Vec<String> = (1..=n).map(|i| shard_dir(i.to_string())).collect();
+    let shards: Vec<String> = (1..=n)
+        .map(|i| sq(&out.join(format!("shard-{i}"))))
+        .collect();
     let merge = format!(
         r#"#!/bin/bash
 # Merges the {n} shards of the sweep array into merged/ (submitted by submit.sh with
