@@ -14,6 +14,7 @@ pub mod scenario;
 pub mod setup;
 pub mod simulation;
 pub mod stability;
+pub mod sweep;
 pub mod vehicle;
 
 pub use error::{Error, Result};

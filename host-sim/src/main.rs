@@ -33,6 +33,9 @@ enum Command {
     Hil(cli::hil::Args),
     /// IEC 61260-1 one-third-octave band levels of a CSV time history (docs/bands.md).
     Bands(cli::bands::Args),
+    /// Many runs over the product of --set axes, reduced to peak/min/max/rms of probes;
+    /// parallel, resumable, sharded, merged, or emitted as a Slurm job array (docs/sweeps.md).
+    Sweep(cli::sweep::Args),
 }
 
 fn main() {
@@ -50,6 +53,7 @@ fn main() {
         Command::Stability(a) => cli::stability::run(a),
         Command::Hil(a) => cli::hil::run(a),
         Command::Bands(a) => cli::bands::run(a),
+        Command::Sweep(a) => cli::sweep::run(a).map_err(|e| e.to_string()),
     };
     if let Err(e) = result {
         eprintln!("maglev: error: {e}");

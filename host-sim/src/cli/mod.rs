@@ -7,4 +7,5 @@ pub mod irregularity;
 pub mod modes;
 pub mod run;
 pub mod stability;
+pub mod sweep;
 pub mod validate;

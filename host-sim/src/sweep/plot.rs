@@ -1,0 +1,115 @@
+//! Plots of a sweep: each quantity against the first axis, one line per value of the others.
+//!
+//! Why one small function in front of the SVG writer: the plot back end is being replaced
+//! (plotters); [`draw`] is the only place the sweep calls it.
+
+use super::runs::Run;
+use super::spec::Spec;
+use super::store::{Record, Status};
+use crate::output::{svg_plot, Series};
+use std::collections::BTreeMap;
+
+/// One line: its label, x and y (NaN where a run failed or is absent).
+pub struct Line {
+    pub label: String,
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+}
+
+/// An SVG line plot of `lines`.
+pub fn draw(title: &str, xlabel: &str, ylabel: &str, lines: &[Line]) -> String {
+    let series: Vec<Series> = lines
+        .iter()
+        .map(|l| Series {
+            label: l.label.clone(),
+            x: &l.x,
+            y: l.y.clone(),
+        })
+        .collect();
+    svg_plot(title, xlabel, ylabel, &series)
+}
+
+/// The file name of quantity `name`'s plot (`peak:midspan_z` → `peak_midspan_z.svg`).
+pub fn file_name(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    format!("{s}.svg")
+}
+
+/// One plot per quantity: (file name, SVG text). The first axis is the abscissa (its index
+/// when its values are not numbers); each combination of the other axes' values is a line.
+pub fn plots(
+    spec: &Spec,
+    runs: &[Run],
+    records: &BTreeMap<String, Record>,
+) -> Vec<(String, String)> {
+    let first = &spec.axes[0];
+    let numeric = first.values.iter().all(|v| v.number().is_some());
+    let xval = |run: &Run| {
+        if numeric {
+            run.values[0].number().unwrap_or(f64::NAN)
+        } else {
+            first
+                .values
+                .iter()
+                .position(|v| *v == run.values[0])
+                .unwrap_or(0) as f64
+        }
+    };
+    let label = |run: &Run| {
+        let rest: Vec<String> = spec.axes[1..]
+            .iter()
+            .zip(&run.values[1..])
+            .map(|(a, v)| format!("{}={}", a.key, v.cell()))
+            .collect();
+        if rest.is_empty() {
+            spec.scenario.clone()
+        } else {
+            rest.join(", ")
+        }
+    };
+    let xlabel = if numeric {
+        first.key.clone()
+    } else {
+        format!("{} (index of its values)", first.key)
+    };
+    spec.quantities
+        .iter()
+        .enumerate()
+        .map(|(k, q)| {
+            let mut lines: Vec<Line> = Vec::new();
+            for run in runs {
+                let y = records
+                    .get(&run.id)
+                    .filter(|r| r.status != Status::Failed)
+                    .and_then(|r| r.values.get(k).copied())
+                    .unwrap_or(f64::NAN);
+                let l = label(run);
+                match lines.iter_mut().find(|line| line.label == l) {
+                    Some(line) => {
+                        line.x.push(xval(run));
+                        line.y.push(y);
+                    }
+                    None => lines.push(Line {
+                        label: l,
+                        x: vec![xval(run)],
+                        y: vec![y],
+                    }),
+                }
+            }
+            let title = format!("{} — {} against {}", spec.scenario, q.name(), first.key);
+            (
+                file_name(&q.name()),
+                draw(&title, &xlabel, &q.name(), &lines),
+            )
+        })
+        .collect()
+}
