@@ -8,6 +8,7 @@ pub mod hil;
 pub mod modal;
 pub mod newmark;
 pub mod output;
+pub mod plot;
 pub mod probes;
 pub mod profile;
 pub mod scenario;

@@ -1,10 +1,9 @@
-//! Run outputs: `response.csv`, `summary.json`, `profile.csv` and SVG plots of the histories.
-//!
-//! The SVG writer is a few dozen lines on purpose: polylines with axes, ticks and a legend are
-//! all the figures need, and a plotting crate would double the clean build time.
+//! Run outputs: `response.csv`, `summary.json`, `profile.csv` and SVG plots of the histories
+//! (drawn by [`crate::plot`]).
 
 pub mod staging;
 
+use crate::plot::{self, Plot, Series};
 use crate::probes::CsvRecorder;
 use crate::scenario::Scenario;
 use crate::simulation::{GapRanges, Outcome, Record};
@@ -137,182 +136,6 @@ impl Summary {
     }
 }
 
-/// One curve of a plot.
-pub struct Series<'a> {
-    pub label: String,
-    pub x: &'a [f64],
-    pub y: Vec<f64>,
-}
-
-const COLOURS: [&str; 6] = [
-    "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
-];
-
-fn nice_ticks(lo: f64, hi: f64) -> Vec<f64> {
-    let span = (hi - lo).max(1e-300);
-    let raw = span / 5.0;
-    let mag = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .map(|m| m * mag)
-        .find(|s| span / s <= 6.0)
-        .unwrap_or(10.0 * mag);
-    let mut t = (lo / step).ceil() * step;
-    let mut out = Vec::new();
-    while t <= hi + 1e-9 * step {
-        out.push(if t.abs() < 1e-12 * step { 0.0 } else { t });
-        t += step;
-    }
-    out
-}
-
-/// An SVG line plot of several series.
-pub fn svg_plot(title: &str, xlabel: &str, ylabel: &str, series: &[Series]) -> String {
-    let (w, h) = (720.0, 360.0);
-    let (ml, mr, mt, mb) = (80.0, 20.0, 30.0, 45.0);
-    let pts = series
-        .iter()
-        .flat_map(|s| s.x.iter().zip(&s.y))
-        .filter(|(x, y)| x.is_finite() && y.is_finite());
-    let (mut x0, mut x1, mut y0, mut y1) = (
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    );
-    for (x, y) in pts {
-        x0 = x0.min(*x);
-        x1 = x1.max(*x);
-        y0 = y0.min(*y);
-        y1 = y1.max(*y);
-    }
-    if !x0.is_finite() {
-        (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
-    }
-    if y1 - y0 < 1e-30 {
-        y0 -= 1.0_f64.max(y0.abs() * 0.1);
-        y1 += 1.0_f64.max(y1.abs() * 0.1);
-    }
-    if x1 - x0 < 1e-30 {
-        x1 = x0 + 1.0;
-    }
-    let pad = 0.05 * (y1 - y0);
-    let (y0, y1) = (y0 - pad, y1 + pad);
-    let sx = |x: f64| ml + (x - x0) / (x1 - x0) * (w - ml - mr);
-    let sy = |y: f64| h - mb - (y - y0) / (y1 - y0) * (h - mt - mb);
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="12">"#
-    );
-    let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="18" text-anchor="middle" font-size="14">{}</text>"#,
-        w / 2.0,
-        esc(title)
-    );
-    for t in nice_ticks(x0, x1) {
-        let x = sx(t);
-        let _ = writeln!(
-            s,
-            r##"<line x1="{x:.1}" y1="{mt}" x2="{x:.1}" y2="{}" stroke="#ddd"/><text x="{x:.1}" y="{}" text-anchor="middle">{}</text>"##,
-            h - mb,
-            h - mb + 15.0,
-            fmt_tick(t)
-        );
-    }
-    for t in nice_ticks(y0, y1) {
-        let y = sy(t);
-        let _ = writeln!(
-            s,
-            r##"<line x1="{ml}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end">{}</text>"##,
-            w - mr,
-            ml - 5.0,
-            y + 4.0,
-            fmt_tick(t)
-        );
-    }
-    let _ = writeln!(
-        s,
-        r#"<rect x="{ml}" y="{mt}" width="{}" height="{}" fill="none" stroke="black"/>"#,
-        w - ml - mr,
-        h - mt - mb
-    );
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#,
-        (ml + w - mr) / 2.0,
-        h - 8.0,
-        esc(xlabel)
-    );
-    let _ = writeln!(
-        s,
-        r#"<text x="15" y="{}" text-anchor="middle" transform="rotate(-90 15 {})">{}</text>"#,
-        h / 2.0,
-        h / 2.0,
-        esc(ylabel)
-    );
-    // Legend, drawn after the curves on a background so curves never run through it.
-    let mut legend = String::new();
-    let _ = writeln!(
-        legend,
-        r##"<rect x="{}" y="{}" width="155" height="{}" fill="white" fill-opacity="0.85" stroke="#bbb"/>"##,
-        w - mr - 158.0,
-        mt + 4.0,
-        16.0 * series.len() as f64 + 6.0
-    );
-    for (i, se) in series.iter().enumerate() {
-        let c = COLOURS[i % COLOURS.len()];
-        // Thin the polyline to about two points per pixel column.
-        let stride = (se.x.len() / 1400).max(1);
-        let mut d = String::new();
-        for (k, (x, y)) in se.x.iter().zip(&se.y).enumerate() {
-            if (k % stride == 0 || k + 1 == se.x.len()) && x.is_finite() && y.is_finite() {
-                let _ = write!(d, "{:.1},{:.1} ", sx(*x), sy(*y));
-            }
-        }
-        let dash = if i % 2 == 1 {
-            r#" stroke-dasharray="6,3""#
-        } else {
-            ""
-        };
-        let _ = writeln!(
-            s,
-            r#"<polyline fill="none" stroke="{c}" stroke-width="1.3"{dash} points="{d}"/>"#
-        );
-        let ly = mt + 15.0 + 16.0 * i as f64;
-        let _ = writeln!(
-            legend,
-            r#"<line x1="{}" y1="{ly}" x2="{}" y2="{ly}" stroke="{c}" stroke-width="2"{dash}/><text x="{}" y="{}">{}</text>"#,
-            w - mr - 150.0,
-            w - mr - 125.0,
-            w - mr - 120.0,
-            ly + 4.0,
-            esc(&se.label)
-        );
-    }
-    s.push_str(&legend);
-    s.push_str("</svg>\n");
-    s
-}
-
-fn fmt_tick(t: f64) -> String {
-    if t == 0.0 {
-        "0".into()
-    } else if t.abs() >= 1e4 || t.abs() < 1e-2 {
-        format!("{t:.2e}")
-    } else {
-        format!("{}", (t * 1e6).round() / 1e6)
-    }
-}
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
-
 /// `profile.csv` text: the irregularity a run used, `x, r_y, r_z` (m), at every position a
 /// wheel occupied at a step (docs/model.md §3), so the case can be rerun in another tool.
 pub fn profile_csv(profile: &[[f64; 3]]) -> String {
@@ -335,8 +158,14 @@ pub fn response_recorder(
 }
 
 /// Writes `summary.json`, `profile.csv` and one SVG per history into the run's staging
-/// directory (`response.csv` is streamed by [`response_recorder`]).
-pub fn write_run(dir: &Staging, outcome: &Outcome, summary: &Summary) -> Result<(), String> {
+/// directory (`response.csv` is streamed by [`response_recorder`]). `sets` are the run's
+/// `--set` overrides, shown in the plot titles.
+pub fn write_run(
+    dir: &Staging,
+    outcome: &Outcome,
+    summary: &Summary,
+    sets: &[String],
+) -> Result<(), String> {
     let records = &outcome.records;
     let put = |name: &str, text: &str| dir.put(name, text);
     put("profile.csv", &profile_csv(&outcome.profile))?;
@@ -345,29 +174,42 @@ pub fn write_run(dir: &Staging, outcome: &Outcome, summary: &Summary) -> Result<
         &(serde_json::to_string_pretty(summary).map_err(|e| e.to_string())? + "\n"),
     )?;
     let t: Vec<f64> = records.iter().map(|r| r.t).collect();
+    let h0 = summary.case.controller.as_ref().map(|c| c.h0_m);
     for (name, get) in COLUMNS.iter().skip(1) {
         let y: Vec<f64> = records.iter().map(get).collect();
         if y.iter().all(|v| !v.is_finite()) {
             continue;
         }
-        let unit = if name.ends_with("_rx") {
-            "rad"
-        } else if name.ends_with("force_z") {
-            "N"
-        } else {
-            "m"
-        };
-        let svg = svg_plot(
-            &format!("{} — {}", summary.scenario, name),
-            "t (s)",
-            &format!("{name} ({unit})"),
-            &[Series {
-                label: summary.model.clone(),
-                x: &t,
-                y,
-            }],
-        );
-        put(&format!("{name}.svg"), &svg)?;
+        let title = format!("{} — {name}{}", summary.scenario, plot::overrides(sets));
+        let p = history_plot(name, &summary.model, &t, &y, h0);
+        let p = Plot { title, ..p };
+        put(
+            &format!("{name}.svg"),
+            &plot::svg(&p).map_err(|e| e.to_string())?,
+        )?;
     }
     Ok(())
+}
+
+/// The plot of history `name` in display units: displacements in mm, forces in kN, the
+/// levitation gap as its deviation from h0 in mm about a zero line (docs/model.md §2).
+fn history_plot(name: &str, model: &str, t: &[f64], y: &[f64], h0: Option<f64>) -> Plot {
+    let scaled = |k: f64, off: f64| y.iter().map(|v| (v - off) * k).collect::<Vec<_>>();
+    let (label, y, zero) = match (name, h0) {
+        (n, Some(h0)) if n.ends_with("_gap_z") => (format!("{n} − h0 (mm)"), scaled(1e3, h0), true),
+        (n, _) if n.ends_with("_rx") => (format!("{n} (rad)"), y.to_vec(), false),
+        (n, _) if n.ends_with("force_z") => (format!("{n} (kN)"), scaled(1e-3, 0.0), false),
+        (n, _) => (format!("{n} (mm)"), scaled(1e3, 0.0), false),
+    };
+    let p = Plot::new(
+        name,
+        "t (s)",
+        label,
+        vec![Series::new(model, t.to_vec(), y)],
+    );
+    if zero {
+        p.zero_line()
+    } else {
+        p
+    }
 }

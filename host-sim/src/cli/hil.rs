@@ -1,6 +1,7 @@
 //! `maglev hil SCENARIO --firmware inproc|process|qemu [--set key=value]... [--out DIR]
 //! [--compare]`: a passage with the levitation firmware as the controller.
 
+use crate::cli::progress::Progress;
 use crate::hil::compare::{compare, Comparison};
 use crate::hil::coupling::HilOutcome;
 use crate::hil::link::{InProc, Link, LinkFaults, LinkStats, StreamLink};
@@ -13,7 +14,7 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FirmwareMode {
@@ -283,19 +284,17 @@ pub fn run(args: Args) -> Result<(), String> {
     let out = Staging::new(&args.out)?;
     let mut rec = response_recorder(&out, probes)?;
     let mut link = open_link(&args, faults)?;
-    let mut last = Instant::now();
-    let (outcome, wall) = execute_hil(&sc, &hs, link.as_mut(), &mut rec, |f| {
-        if last.elapsed().as_secs_f64() > 2.0 {
-            eprintln!("maglev: {:.0} % …", 100.0 * f);
-            last = Instant::now();
-        }
-    })?;
+    let mut bar = Progress::run("hil");
+    let (outcome, wall) = execute_hil(&sc, &hs, link.as_mut(), &mut rec, |f| bar.fraction(f))?;
+    drop(bar);
     rec.finish()?;
     let stats = link.stats();
     drop(link);
     let (events, first_fault_s) = event_counts(&outcome);
     let (cmp, cmp_before) = if args.compare {
-        let (ideal, _) = run_scenario(&sc, &mut crate::probes::NoRecorder, |_| {})?;
+        let mut bar = Progress::run("hil: ideal run");
+        let (ideal, _) = run_scenario(&sc, &mut crate::probes::NoRecorder, |f| bar.fraction(f))?;
+        drop(bar);
         let all = compare(&outcome.run.records, &ideal.records)?;
         let before = match first_fault_s {
             Some(tf) => {
@@ -326,7 +325,7 @@ pub fn run(args: Args) -> Result<(), String> {
         compare_before_fault: cmp_before,
         run,
     };
-    write_run(&out, &outcome.run, &summary.run)?;
+    write_run(&out, &outcome.run, &summary.run, &args.sets)?;
     let put = |name: &str, text: String| out.put(name, &text);
     put(
         "summary.json",

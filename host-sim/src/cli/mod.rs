@@ -5,6 +5,7 @@ pub mod control;
 pub mod hil;
 pub mod irregularity;
 pub mod modes;
+pub mod progress;
 pub mod run;
 pub mod stability;
 pub mod sweep;

@@ -1,12 +1,12 @@
 //! `maglev run SCENARIO [--set key=value]... [--out DIR] [--strict]`: one passage over an FE,
 //! modal or rigid guideway.
 
+use crate::cli::progress::Progress;
 use crate::output::{gap_ranges, response_recorder, write_run, Staging, Summary};
 use crate::scenario;
 use crate::setup::run_scenario;
 use crate::simulation::Outcome;
 use std::path::PathBuf;
-use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -72,17 +72,13 @@ pub fn run(args: Args) -> Result<bool, String> {
     let probes = crate::setup::probes(&sc)?;
     let out = Staging::new(&args.out)?;
     let mut rec = response_recorder(&out, probes)?;
-    let mut last = Instant::now();
-    let (outcome, wall) = run_scenario(&sc, &mut rec, |f| {
-        if last.elapsed().as_secs_f64() > 2.0 {
-            eprintln!("maglev: {:.0} % …", 100.0 * f);
-            last = Instant::now();
-        }
-    })?;
+    let mut bar = Progress::run("run");
+    let (outcome, wall) = run_scenario(&sc, &mut rec, |f| bar.fraction(f))?;
+    drop(bar);
     rec.finish()?;
     warn(&outcome);
     let summary = Summary::new(&args.scenario, &sc, &outcome, wall);
-    write_run(&out, &outcome, &summary)?;
+    write_run(&out, &outcome, &summary, &args.sets)?;
     out.finish()?;
     eprintln!(
         "maglev: {} steps, {:.3} s simulated in {:.2} s wall; wrote {}",

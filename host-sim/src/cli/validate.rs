@@ -7,7 +7,9 @@
 //! below the controller's 0.16 s period) and 160 modes.
 
 use crate::cli::control::SchemeKind;
-use crate::output::{gap_ranges, svg_plot, GapRange, Series};
+use crate::cli::progress::Progress;
+use crate::output::{gap_ranges, GapRange};
+use crate::plot::{self, overrides, Plot, Series};
 use crate::scenario::{self, Scenario};
 use crate::setup::run_scenario;
 use crate::simulation::Record;
@@ -266,15 +268,29 @@ struct Validation {
     wall_seconds: f64,
 }
 
-/// The overrides as a title suffix (empty without any).
-fn overrides(sets: &[String]) -> String {
-    if sets.is_empty() {
-        String::new()
-    } else {
-        format!(" [--set {}]", sets.join(", "))
-    }
+/// A displacement history `get` (m) of the FE `runs` against the modal `reference`, in mm.
+fn plot_of(
+    title: &str,
+    reference: &Run,
+    runs: &[(String, &Run)],
+    get: fn(&Record) -> f64,
+    ylabel: &str,
+) -> Plot {
+    let t = |r: &Run| r.records.iter().map(|x| x.t).collect();
+    let mm = |r: &Run| r.records.iter().map(|x| get(x) * 1e3).collect();
+    let mut series = vec![Series::new(
+        "modal (Δt = 1e-5)",
+        t(reference),
+        mm(reference),
+    )];
+    series.extend(
+        runs.iter()
+            .map(|(l, r)| Series::new(l.clone(), t(r), mm(r))),
+    );
+    Plot::new(title, "t (s)", ylabel, series)
 }
 
+/// `{name}.svg` and its text: one [`plot_of`].
 fn figure(
     name: &str,
     title: &str,
@@ -282,45 +298,14 @@ fn figure(
     runs: &[(String, &Run)],
     get: fn(&Record) -> f64,
     ylabel: &str,
-) -> (String, String) {
-    let t_ref: Vec<f64> = reference.records.iter().map(|r| r.t).collect();
-    let mut series = vec![Series {
-        label: "modal (Δt = 1e-5)".into(),
-        x: &t_ref,
-        y: reference.records.iter().map(get).collect(),
-    }];
-    let ts: Vec<Vec<f64>> = runs
-        .iter()
-        .map(|(_, r)| r.records.iter().map(|x| x.t).collect())
-        .collect();
-    for ((label, r), t) in runs.iter().zip(&ts) {
-        series.push(Series {
-            label: label.clone(),
-            x: t,
-            y: r.records.iter().map(get).collect(),
-        });
-    }
-    (
-        format!("{name}.svg"),
-        svg_plot(title, "t (s)", ylabel, &series),
-    )
+) -> crate::Result<(String, String)> {
+    let svg = plot::svg(&plot_of(title, reference, runs, get, ylabel))?;
+    Ok((format!("{name}.svg"), svg))
 }
 
-/// A 2 × 2 grid of figures as one SVG (each cell a complete plot).
-fn panels(cells: &[String]) -> String {
-    let (w, h) = (720.0, 360.0);
-    let mut out = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\">\n",
-        2.0 * w,
-        h * cells.len().div_ceil(2) as f64
-    );
-    for (k, cell) in cells.iter().enumerate() {
-        let (x, y) = ((k % 2) as f64 * w, (k / 2) as f64 * h);
-        // Each cell is a standalone <svg>; nested, it is placed by x and y.
-        out.push_str(&cell.replacen("<svg ", &format!("<svg x=\"{x}\" y=\"{y}\" "), 1));
-    }
-    out.push_str("</svg>\n");
-    out
+/// A 2 × 2 grid of plots under one title, as one SVG.
+fn panels(title: &str, cells: &[Plot]) -> crate::Result<String> {
+    plot::panels(title, 2, cells)
 }
 
 pub fn run_cmd(args: Args) -> Result<(), String> {
@@ -342,17 +327,19 @@ pub fn run_cmd(args: Args) -> Result<(), String> {
     };
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
+    // One step per run: 3 references, §4.3's 3, §4.4's 5, §4.5's 3, Fig. 5's 7.
+    let mut bar = Progress::steps("validate", 3 + 3 + 5 + 3 + 7);
     let mut comps = Vec::new();
     let mut figs = Vec::new();
     let mut refs = std::collections::BTreeMap::new();
     for speed in [10.0, 100.0, 150.0] {
-        eprintln!("maglev: validate: modal reference at {speed} m/s …");
+        bar.step(format!("modal reference at {speed} m/s"));
         refs.insert(speed as u32, modal(speed, &common)?);
     }
     // §4.3 (Fig. 2): three speeds, 20 elements, Δt = 1 ms; the paper's four panels.
     for speed in [10.0, 100.0, 150.0] {
         let reference = &refs[&(speed as u32)];
-        eprintln!("maglev: validate: §4.3 FE at {speed} m/s …");
+        bar.step(format!("§4.3 FE at {speed} m/s"));
         let (c, r) = compare(
             "4.3",
             speed,
@@ -366,29 +353,28 @@ pub fn run_cmd(args: Args) -> Result<(), String> {
         )?;
         comps.push(c);
         let runs = [("FE, 20 el., Δt = 1 ms".to_string(), &r)];
-        let cells: Vec<String> = [
+        let cells: Vec<Plot> = [
             (
                 "midspan Y",
                 midspan_y as fn(&Record) -> f64,
-                "midspan_y (m)",
+                "midspan_y (mm)",
             ),
-            ("midspan Z", midspan_z, "midspan_z (m)"),
-            ("wheel 1 Y", wheel1_y, "wheel1_y (m)"),
-            ("wheel 1 Z", wheel1_z, "wheel1_z (m)"),
+            ("midspan Z", midspan_z, "midspan_z (mm)"),
+            ("wheel 1 Y", wheel1_y, "wheel1_y (mm)"),
+            ("wheel 1 Z", wheel1_z, "wheel1_z (mm)"),
         ]
         .iter()
-        .map(|(what, get, ylabel)| {
-            let title = format!("§4.3 {what} at {speed} m/s{}", overrides(&args.sets));
-            figure("", &title, reference, &runs, *get, ylabel).1
-        })
+        .map(|(what, get, ylabel)| plot_of(what, reference, &runs, *get, ylabel))
         .collect();
-        figs.push((format!("fig2-{speed}.svg"), panels(&cells)));
+        let title = format!("§4.3 (Fig. 2) at {speed} m/s{}", overrides(&args.sets));
+        let fig = panels(&title, &cells).map_err(|e| e.to_string())?;
+        figs.push((format!("fig2-{speed}.svg"), fig));
     }
     // §4.4: element counts at 100 m/s.
     let reference = &refs[&100];
     let mut el_runs = Vec::new();
     for el in [2usize, 4, 8, 16, 20] {
-        eprintln!("maglev: validate: §4.4 FE with {el} elements …");
+        bar.step(format!("§4.4 FE with {el} elements"));
         let lim = if el >= 16 {
             (Some(0.01), Some(0.02))
         } else {
@@ -399,22 +385,25 @@ pub fn run_cmd(args: Args) -> Result<(), String> {
         el_runs.push((format!("FE, {el} elements"), r));
     }
     let el_refs: Vec<(String, &Run)> = el_runs.iter().map(|(l, r)| (l.clone(), r)).collect();
-    figs.push(figure(
-        "fig3",
-        &format!(
-            "{}{}",
-            "§4.4 midspan Z at 100 m/s, element count",
-            overrides(&args.sets)
-        ),
-        reference,
-        &el_refs,
-        midspan_z,
-        "midspan_z (m)",
-    ));
+    figs.push(
+        figure(
+            "fig3",
+            &format!(
+                "{}{}",
+                "§4.4 midspan Z at 100 m/s, element count",
+                overrides(&args.sets)
+            ),
+            reference,
+            &el_refs,
+            midspan_z,
+            "midspan_z (mm)",
+        )
+        .map_err(|e| e.to_string())?,
+    );
     // §4.5: time steps at 100 m/s.
     let mut dt_runs = Vec::new();
     for dt in [1e-4, 5e-3, 1e-2] {
-        eprintln!("maglev: validate: §4.5 FE with Δt = {dt} s …");
+        bar.step(format!("§4.5 FE with Δt = {dt} s"));
         let lim = if dt < 6e-3 {
             (Some(0.02), Some(0.04))
         } else {
@@ -425,34 +414,40 @@ pub fn run_cmd(args: Args) -> Result<(), String> {
         dt_runs.push((format!("FE, Δt = {dt} s"), r));
     }
     let dt_refs: Vec<(String, &Run)> = dt_runs.iter().map(|(l, r)| (l.clone(), r)).collect();
-    figs.push(figure(
-        "fig4",
-        &format!(
-            "{}{}",
-            "§4.5 midspan Z at 100 m/s, time step",
-            overrides(&args.sets)
-        ),
-        reference,
-        &dt_refs,
-        midspan_z,
-        "midspan_z (m)",
-    ));
-    figs.push(figure(
-        "fig4-wheel1",
-        &format!(
-            "{}{}",
-            "§4.5 wheel 1 Z at 100 m/s, time step",
-            overrides(&args.sets)
-        ),
-        reference,
-        &dt_refs,
-        wheel1_z,
-        "wheel1_z (m)",
-    ));
+    figs.push(
+        figure(
+            "fig4",
+            &format!(
+                "{}{}",
+                "§4.5 midspan Z at 100 m/s, time step",
+                overrides(&args.sets)
+            ),
+            reference,
+            &dt_refs,
+            midspan_z,
+            "midspan_z (mm)",
+        )
+        .map_err(|e| e.to_string())?,
+    );
+    figs.push(
+        figure(
+            "fig4-wheel1",
+            &format!(
+                "{}{}",
+                "§4.5 wheel 1 Z at 100 m/s, time step",
+                overrides(&args.sets)
+            ),
+            reference,
+            &dt_refs,
+            wheel1_z,
+            "wheel1_z (mm)",
+        )
+        .map_err(|e| e.to_string())?,
+    );
     // Fig. 5: mean Newton–Raphson iterations per step against Δt.
     let mut study = Vec::new();
     for dt in [1e-5, 1e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2] {
-        eprintln!("maglev: validate: Fig. 5 iterations at Δt = {dt} s …");
+        bar.step(format!("Fig. 5 iterations at Δt = {dt} s"));
         let (r, _) = fe(100.0, 20, dt, &common)?;
         let its: Vec<u32> = r.records.iter().skip(1).map(|x| x.iterations).collect();
         study.push((
@@ -461,6 +456,7 @@ pub fn run_cmd(args: Args) -> Result<(), String> {
             its.iter().copied().max().unwrap_or(0),
         ));
     }
+    drop(bar);
     let study_pass = study.last().map(|l| l.1) > study.first().map(|f| f.1);
     let pass = comps.iter().all(|c| c.pass) && study_pass;
     // Report.
