@@ -45,6 +45,7 @@ pub fn scripts(e: &Emit) -> Vec<(&'static str, String)> {
     let n = e.shards;
     let out = &e.out;
     let logs = out.join("logs");
+    let task_dir = format!("{}\"$SLURM_ARRAY_TASK_ID\"", sq(&out.join("shard-")));
     let sweep = format!(
         r#"#!/bin/bash
 # maglev sweep as a Slurm job array: array task I runs shard I of {n} (written by
@@ -64,7 +65,7 @@ exec "$MAGLEV" sweep {spec} --shard "$SLURM_ARRAY_TASK_ID/{n}" \
         log = logs.join("shard-%a.log").display(),
         bin = sq(&e.maglev),
         spec = sq(&e.spec),
-        dir = format!("{}\"$SLURM_ARRAY_TASK_ID\"", sq(&out.join("shard-"))),
+        dir = task_dir,
     );
     let shards: Vec<String> = (1..=n)
         .map(|i| sq(&out.join(format!("shard-{i}"))))
