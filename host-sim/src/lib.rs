@@ -1,5 +1,6 @@
 //! Host-side simulators: the guideway (FE and modal reference), vehicles, coupling, CLI.
 pub mod bands;
+pub mod cars;
 pub mod cli;
 pub mod error;
 pub mod fe;
