@@ -134,7 +134,8 @@ fn main() {
         "speed (m/s)",
         "DAF",
         &curves,
-    );
+    )
+    .expect("the DAF plot");
     std::fs::write(&svg, text).unwrap();
     eprintln!("wrote {}", svg.display());
 }

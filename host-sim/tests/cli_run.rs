@@ -40,8 +40,14 @@ fn paper_geometry_flies_and_strict_passes() {
     // stderr is not a terminal here: no progress bar, no percentages, only the closing line.
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(err.lines().count(), 1, "{err}");
-    assert!(err.starts_with("maglev: ") && err.contains(" steps, "), "{err}");
-    assert!(!err.contains('\r') && !err.contains('\x1b') && !err.contains('%'), "{err:?}");
+    assert!(
+        err.starts_with("maglev: ") && err.contains(" steps, "),
+        "{err}"
+    );
+    assert!(
+        !err.contains('\r') && !err.contains('\x1b') && !err.contains('%'),
+        "{err:?}"
+    );
     // The gap is plotted as its deviation from h0, in mm.
     let svg = std::fs::read_to_string(d.join("wheel1_gap_z.svg")).unwrap();
     assert!(svg.contains("wheel1_gap_z − h0 (mm)"));

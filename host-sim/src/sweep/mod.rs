@@ -51,7 +51,7 @@ pub fn publish(
     )?;
     let plots = dir.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| Error::io(&plots, e))?;
-    for (name, svg) in plot::plots(spec, runs, records) {
+    for (name, svg) in plot::plots(spec, runs, records)? {
         store::write_atomic(&plots.join(name), svg.as_bytes())?;
     }
     Ok(())

@@ -1,12 +1,13 @@
 //! Plots of a sweep: each quantity against the first axis, one line per value of the others.
 //!
-//! Why one small function in front of the SVG writer: the plot back end is being replaced
-//! (plotters); [`draw`] is the only place the sweep calls it.
+//! [`draw`] is the only place the sweep calls the plot module (crate::plot, plotters);
+//! failed runs are NaN and leave a gap in their line.
 
 use super::runs::Run;
 use super::spec::Spec;
 use super::store::{Record, Status};
-use crate::output::{svg_plot, Series};
+use crate::plot::{self as svg, Series};
+use crate::Result;
 use std::collections::BTreeMap;
 
 /// One line: its label, x and y (NaN where a run failed or is absent).
@@ -17,16 +18,12 @@ pub struct Line {
 }
 
 /// An SVG line plot of `lines`.
-pub fn draw(title: &str, xlabel: &str, ylabel: &str, lines: &[Line]) -> String {
+pub fn draw(title: &str, xlabel: &str, ylabel: &str, lines: &[Line]) -> Result<String> {
     let series: Vec<Series> = lines
         .iter()
-        .map(|l| Series {
-            label: l.label.clone(),
-            x: &l.x,
-            y: l.y.clone(),
-        })
+        .map(|l| Series::new(l.label.clone(), l.x.clone(), l.y.clone()))
         .collect();
-    svg_plot(title, xlabel, ylabel, &series)
+    svg::lines(title, xlabel, ylabel, &series)
 }
 
 /// The file name of quantity `name`'s plot (`peak:midspan_z` → `peak_midspan_z.svg`).
@@ -50,7 +47,7 @@ pub fn plots(
     spec: &Spec,
     runs: &[Run],
     records: &BTreeMap<String, Record>,
-) -> Vec<(String, String)> {
+) -> Result<Vec<(String, String)>> {
     let first = &spec.axes[0];
     let numeric = first.values.iter().all(|v| v.number().is_some());
     let xval = |run: &Run| {
@@ -106,10 +103,10 @@ pub fn plots(
                 }
             }
             let title = format!("{} — {} against {}", spec.scenario, q.name(), first.key);
-            (
+            Ok((
                 file_name(&q.name()),
-                draw(&title, &xlabel, &q.name(), &lines),
-            )
+                draw(&title, &xlabel, &q.name(), &lines)?,
+            ))
         })
         .collect()
 }
