@@ -5,6 +5,7 @@
 //! maglev wheels) are allowed as long as damping or stiffness holds each of them.
 
 use crate::fe::{Newmark as Integrator, State};
+use crate::{Error, Result};
 use nalgebra::{DMatrix, DVector};
 
 /// `M ü + C u̇ + K u = f` with a fixed step, committed and trial states.
@@ -16,10 +17,13 @@ pub struct Newmark {
 
 impl Newmark {
     /// Starts at rest (a system written in deviations from its static equilibrium).
-    pub fn new(m: DMatrix<f64>, c: DMatrix<f64>, k: DMatrix<f64>, dt: f64) -> Result<Self, String> {
+    pub fn new(m: DMatrix<f64>, c: DMatrix<f64>, k: DMatrix<f64>, dt: f64) -> Result<Self> {
         let n = m.nrows();
-        let integrator = Integrator::with_damping_matrix(&k, &m, Some(c), dt)
-            .map_err(|e| format!("vehicle: {e} (a DOF with no mass, damping or stiffness?)"))?;
+        let integrator = Integrator::with_damping_matrix(&k, &m, Some(c), dt).map_err(|e| {
+            Error::numerical(format!(
+                "vehicle: {e} (a DOF with no mass, damping or stiffness?)"
+            ))
+        })?;
         Ok(Newmark {
             integrator,
             committed: State::zeros(n),

@@ -116,6 +116,12 @@ pub enum VehicleSection {
         /// How the magnets face their rails (docs/model.md §2); default `paper`.
         #[serde(default)]
         geometry: GeometryKey,
+        /// Identical cars, one behind the other (default 1).
+        #[serde(default = "one")]
+        repeat: usize,
+        /// Spacing of the repeated cars, leading wheel to leading wheel (m); needed when
+        /// `repeat > 1`, at least the wheelbase `2·half_length_m`.
+        car_length_m: Option<f64>,
     },
     MovingForce {
         force_kN: f64,
@@ -147,6 +153,9 @@ fn one() -> usize {
 
 /// The most loads a `forces` train may carry.
 pub const MAX_LOADS: usize = 100_000;
+
+/// The most cars a `fig1` train may have (12 magnets each).
+pub const MAX_CARS: usize = 1000;
 
 /// `vehicle.geometry`: `paper` (Eq. 2 read literally, the default) or `ems`.
 #[derive(Deserialize, Serialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -409,6 +418,7 @@ impl Scenario {
                     return Err("a fig1 vehicle needs a [controller] section".into());
                 }
                 self.fig1()?;
+                self.fig1_cars()?;
                 self.controller_params()?;
             }
             VehicleSection::Forces { .. } => {
@@ -590,7 +600,7 @@ impl Scenario {
                 target_height_m,
                 body_height_m,
                 wheel_mass_kg,
-                geometry: _,
+                ..
             } => {
                 for (n, v) in [
                     ("vehicle.body_mass_t", *body_mass_t),
@@ -629,9 +639,37 @@ impl Scenario {
                     target_height: *target_height_m,
                     body_height: *body_height_m,
                     wheel_mass: *wheel_mass_kg,
+                    com_ahead: 0.0,
                 })
             }
             _ => Err("not a fig1 vehicle".into()),
+        }
+    }
+
+    /// A fig1 train's cars: `(repeat, car_length_m)` (one car: length 0), checked.
+    pub fn fig1_cars(&self) -> Result<(usize, f64), String> {
+        let VehicleSection::Fig1 {
+            repeat,
+            car_length_m,
+            half_length_m,
+            ..
+        } = &self.vehicle
+        else {
+            return Err("not a fig1 vehicle".into());
+        };
+        if !(1..=MAX_CARS).contains(repeat) {
+            return Err(format!(
+                "train.repeat must be between 1 and {MAX_CARS}, got {repeat}"
+            ));
+        }
+        match car_length_m {
+            Some(l) if !(l.is_finite() && *l >= 2.0 * half_length_m) => Err(format!(
+                "train.car_length_m must be a finite number of at least the wheelbase 2·half_length_m = {} m, got {l}",
+                2.0 * half_length_m
+            )),
+            Some(l) => Ok((*repeat, *l)),
+            None if *repeat == 1 => Ok((1, 0.0)),
+            None => Err("train.car_length_m is needed when train.repeat > 1".into()),
         }
     }
 
@@ -654,7 +692,8 @@ impl Scenario {
                     let v = crate::vehicle::VehicleModel::fig1(
                         &self.fig1()?,
                         maglev_core::levitation::GRAVITY,
-                    );
+                    )
+                    .map_err(|e| e.to_string())?;
                     crate::stability::design::design(
                         &v,
                         &self.controller_params()?,
@@ -703,7 +742,10 @@ impl Scenario {
         }
         let length: f64 = self.bridge.spans_m.iter().sum();
         let behind = match &self.vehicle {
-            VehicleSection::Fig1 { half_length_m, .. } => 2.0 * half_length_m,
+            VehicleSection::Fig1 { half_length_m, .. } => {
+                let (cars, length) = self.fig1_cars().unwrap_or((1, 0.0));
+                2.0 * half_length_m + (cars - 1) as f64 * length
+            }
             VehicleSection::MovingForce { .. } => 0.0,
             VehicleSection::Forces { .. } => self
                 .forces()

@@ -11,7 +11,7 @@ use crate::probes::{Extent, Probes, Recorder};
 use crate::profile::Profile;
 use crate::scenario::{Model, Scenario, VehicleSection};
 use crate::simulation::{Load, MovingLoad, Profiles, Settings};
-use crate::vehicle::VehicleModel;
+use crate::vehicle::Train;
 use maglev_core::irregularity::Direction;
 
 /// A guideway that never moves: `z_g = y_g = θ = 0` everywhere (`run.model = "rigid"`). The
@@ -118,10 +118,7 @@ impl Passage {
                 ez: *offset_z_m,
             }]),
             VehicleSection::Forces { .. } => Load::Forces(sc.forces()?),
-            VehicleSection::Fig1 { .. } => Load::Vehicle(VehicleModel::fig1(
-                &sc.fig1()?,
-                maglev_core::levitation::GRAVITY,
-            )),
+            VehicleSection::Fig1 { .. } => Load::Vehicle(fig1_train(sc)?),
         };
         let profiles = profiles_for(sc, &load)?;
         let settings = Settings {
@@ -155,6 +152,13 @@ impl Passage {
             settings,
         })
     }
+}
+
+/// The scenario's train of `repeat` Fig. 1 cars `car_length_m` apart.
+fn fig1_train(sc: &Scenario) -> Result<Train, String> {
+    let (cars, length) = sc.fig1_cars()?;
+    Train::fig1_repeated(&sc.fig1()?, cars, length, maglev_core::levitation::GRAVITY)
+        .map_err(|e| e.to_string())
 }
 
 /// The Table 1 profiles of the scenario's irregularity section over every position a wheel
@@ -195,7 +199,8 @@ pub fn run_scenario(
         &p.settings,
         rec,
         progress,
-    )?;
+    )
+    .map_err(|e| e.to_string())?;
     Ok((outcome, start.elapsed().as_secs_f64()))
 }
 
@@ -204,7 +209,7 @@ pub fn probes(sc: &Scenario) -> Result<Probes, String> {
     let spans = sc.bridge.spans_m.len();
     let extent = match &sc.vehicle {
         VehicleSection::Fig1 { .. } => {
-            let v = VehicleModel::fig1(&sc.fig1()?, maglev_core::levitation::GRAVITY);
+            let v = fig1_train(sc)?;
             Extent {
                 spans,
                 wheels: v.wheels.len(),

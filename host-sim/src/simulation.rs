@@ -15,15 +15,34 @@
 //! two runs differ only in the controller, which is what `maglev hil --compare` measures.
 
 pub mod magnets;
+pub mod train;
 
 use crate::guideway::{Guideway, PointLoad, SectionMotion};
-use crate::newmark::Newmark;
 use crate::probes::{Recorder, StepView, Wheels};
-use crate::vehicle::VehicleModel;
+use crate::vehicle::Train;
+use crate::{Error, Result};
 use maglev_core::gap::{self, Geometry};
 use maglev_core::gap_control::GapParams;
 use maglev_core::{Params, Status};
-use nalgebra::DVector;
+use train::TrainState;
+
+/// Lifts the `String` errors of the interfaces not yet converted (recorders, magnets behind a
+/// link) into [`Error`]; a no-op on the converted ones.
+trait Lift<T> {
+    fn lift(self) -> Result<T>;
+}
+
+impl<T> Lift<T> for std::result::Result<T, String> {
+    fn lift(self) -> Result<T> {
+        self.map_err(Error::numerical)
+    }
+}
+
+impl<T> Lift<T> for Result<T> {
+    fn lift(self) -> Result<T> {
+        self
+    }
+}
 
 /// What runs over the guideway.
 pub enum Load {
@@ -31,8 +50,9 @@ pub enum Load {
     /// moving force of the verification case); no controller, no irregularity. Record
     /// "wheel 1" is the first load.
     Forces(Vec<MovingLoad>),
-    /// A maglev vehicle with one levitation magnet and one guidance pair per wheel.
-    Vehicle(VehicleModel),
+    /// A maglev train (one car or more) with one levitation magnet and one guidance pair per
+    /// wheel.
+    Vehicle(Train),
 }
 
 /// One constant moving force.
@@ -151,10 +171,10 @@ pub trait Magnets {
         gaps_prev: &[WheelGaps],
         gaps_next: &[WheelGaps],
         out: &mut [(f64, f64)],
-    ) -> Result<(), String>;
+    ) -> Result<()>;
 
     /// Makes the state after the last [`Magnets::forces`] call of `step` the committed one.
-    fn commit(&mut self, step: u32, t: f64) -> Result<(), String>;
+    fn commit(&mut self, step: u32, t: f64) -> Result<()>;
 
     /// The core's status flags of the last [`Magnets::forces`] call (recorded per step).
     fn status(&self) -> Status;
@@ -162,7 +182,7 @@ pub trait Magnets {
 
 /// Each wheel's gaps at t = 0 with the vehicle at rest at its static position:
 /// `(h0 + r_z(x0), r_y(x0))`.
-pub fn initial_gaps(v: &VehicleModel, profiles: &Profiles, h0: f64) -> Vec<WheelGaps> {
+pub fn initial_gaps(v: &Train, profiles: &Profiles, h0: f64) -> Vec<WheelGaps> {
     v.wheels
         .iter()
         .map(|w| (h0 + (profiles.z)(w.x0), (profiles.y)(w.x0)))
@@ -177,17 +197,19 @@ pub fn simulate<G: Guideway>(
     s: &Settings,
     rec: &mut dyn Recorder,
     mut progress: impl FnMut(f64),
-) -> Result<Outcome, String> {
+) -> Result<Outcome> {
     let dt = s.dt;
     if (guideway.time_step() - dt).abs() > 1e-15 * dt {
-        return Err("internal: guideway step differs from the run's step".into());
+        return Err(Error::numerical(
+            "internal: guideway step differs from the run's step",
+        ));
     }
     match load {
         Load::Forces(forces) => {
             let steps = (s.t_end / dt).round() as usize;
             let first = forces
                 .first()
-                .ok_or("a forces train needs at least one load")?;
+                .ok_or_else(|| Error::invalid("train.loads_kN", "needs at least one load"))?;
             let mut records = Vec::with_capacity(steps + 1);
             records.push(Record {
                 midspan: guideway.section_at(s.midspan_x),
@@ -220,7 +242,7 @@ pub fn simulate<G: Guideway>(
                     collision: false,
                 })
             };
-            record(0.0, guideway, &points, 0)?;
+            record(0.0, guideway, &points, 0).lift()?;
             for n in 1..=steps {
                 let t = n as f64 * dt;
                 for ((l, f), p) in loads.iter_mut().zip(forces).zip(points.iter_mut()) {
@@ -229,7 +251,7 @@ pub fn simulate<G: Guideway>(
                 }
                 guideway.solve_step(&loads);
                 guideway.commit();
-                record(t, guideway, &points, 1)?;
+                record(t, guideway, &points, 1).lift()?;
                 let m = guideway.motion_at(loads[0].x, first.ey, first.ez);
                 records.push(Record {
                     t,
@@ -262,19 +284,21 @@ pub fn simulate<G: Guideway>(
     }
 }
 
-/// The coupling loop of a vehicle with `magnets` over `guideway` (module docs).
+/// The coupling loop of a train with `magnets` over `guideway` (module docs).
 pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     guideway: &mut G,
-    v: &VehicleModel,
+    v: &Train,
     profiles: &Profiles,
     s: &Settings,
     magnets: &mut M,
     rec: &mut dyn Recorder,
     mut progress: impl FnMut(f64),
-) -> Result<Outcome, String> {
+) -> Result<Outcome> {
     let dt = s.dt;
     if (guideway.time_step() - dt).abs() > 1e-15 * dt {
-        return Err("internal: guideway step differs from the run's step".into());
+        return Err(Error::numerical(
+            "internal: guideway step differs from the run's step",
+        ));
     }
     let h0 = s.controller.h0;
     let steps = (s.t_end / dt).round() as usize;
@@ -297,8 +321,16 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
         ..Record::default()
     });
     let mut unconverged = 0;
-    let mut veh = Newmark::new(v.m.clone(), v.c.clone(), v.k.clone(), dt)?;
-    let dofs: Vec<(usize, usize)> = v.wheels.iter().map(|w| (w.dof_y, w.dof_z)).collect();
+    let mut veh = TrainState::new(v, dt)?;
+    // Train-wide DOF indices for the probes (cars concatenated in order).
+    let dofs: Vec<(usize, usize)> = v
+        .wheels
+        .iter()
+        .map(|w| (veh.global(w.car, w.dof_y), veh.global(w.car, w.dof_z)))
+        .collect();
+    let body_z: Vec<usize> = (0..v.cars.len())
+        .map(|c| veh.global(c, v.cars[c].body_z))
+        .collect();
     // The static forces at t = 0; every iteration overwrites them.
     let mut forces: Vec<(f64, f64)> = v.p0.iter().map(|&p0| (p0, 0.0)).collect();
     rec.record(&StepView {
@@ -306,53 +338,57 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
         guideway: &*guideway,
         midspans: &s.midspans,
         wheels: Wheels::Vehicle {
-            u: veh.u().as_slice(),
-            a: veh.a().as_slice(),
+            u: veh.u_all(),
+            a: veh.a_all(),
             dofs: &dofs,
             gaps: &gaps_prev,
             forces: &forces,
             h0,
-            body_z: &v.cars,
+            body_z: &body_z,
         },
         iterations: 0,
         collision: false,
-    })?;
-    let mut f = DVector::zeros(v.m.nrows());
+    })
+    .lift()?;
+    let mut f = vec![(0.0, 0.0); nw];
     let mut loads = vec![PointLoad::default(); nw];
     let mut gaps_used = vec![(0.0, 0.0); nw];
+    let mut current = vec![(0.0, 0.0); nw];
+    let (mut xs, mut ry, mut rz) = (vec![0.0; nw], vec![0.0; nw], vec![0.0; nw]);
     for n in 1..=steps {
         let t = n as f64 * dt;
         let step = n as u32;
-        let xs: Vec<f64> = v.wheels.iter().map(|w| w.x0 + s.speed * t).collect();
-        let rz: Vec<f64> = xs.iter().map(|&x| (profiles.z)(x)).collect();
-        let ry: Vec<f64> = xs.iter().map(|&x| (profiles.y)(x)).collect();
-        for i in 0..nw {
+        for (i, w) in v.wheels.iter().enumerate() {
+            xs[i] = w.x0 + s.speed * t;
+            rz[i] = (profiles.z)(xs[i]);
+            ry[i] = (profiles.y)(xs[i]);
             profile.push([xs[i], ry[i], rz[i]]);
         }
         // Gaps at t from a displacement estimate (the committed state on the first pass).
-        let gaps = |u: &DVector<f64>, gw: &G| -> Vec<WheelGaps> {
-            v.wheels
-                .iter()
-                .enumerate()
-                .map(|(i, w)| {
-                    let m = gw.motion_at(xs[i], w.ey, w.ez);
-                    (
-                        s.geometry.levitation_gap(h0, u[w.dof_z], m.z, rz[i]),
-                        gap::lateral_offset(u[w.dof_y], m.y, ry[i]),
-                    )
-                })
-                .collect()
+        let gaps = |trial: bool, veh: &TrainState, gw: &G, out: &mut [WheelGaps]| {
+            for (i, w) in v.wheels.iter().enumerate() {
+                let m = gw.motion_at(xs[i], w.ey, w.ez);
+                let (uy, uz) = if trial {
+                    (veh.u1(w.car, w.dof_y), veh.u1(w.car, w.dof_z))
+                } else {
+                    (veh.u(w.car, w.dof_y), veh.u(w.car, w.dof_z))
+                };
+                out[i] = (
+                    s.geometry.levitation_gap(h0, uz, m.z, rz[i]),
+                    gap::lateral_offset(uy, m.y, ry[i]),
+                );
+            }
         };
-        let mut current = gaps(veh.u(), guideway);
+        gaps(false, &veh, guideway, &mut current);
         let mut iterations = 0;
         loop {
             iterations += 1;
-            magnets.forces(step, t, &gaps_prev, &current, &mut forces)?;
-            f.fill(0.0);
+            magnets
+                .forces(step, t, &gaps_prev, &current, &mut forces)
+                .lift()?;
             for (i, w) in v.wheels.iter().enumerate() {
                 let (gz, gy) = forces[i];
-                f[w.dof_z] = gz - v.p0[i];
-                f[w.dof_y] = gy;
+                f[i] = (gz - v.p0[i], gy);
                 loads[i] = PointLoad {
                     x: xs[i],
                     ey: w.ey,
@@ -362,9 +398,9 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
                 };
             }
             guideway.solve_step(&loads);
-            veh.solve(&f);
+            veh.solve(v, &f);
             gaps_used.copy_from_slice(&current);
-            current = gaps(veh.u1(), guideway);
+            gaps(true, &veh, guideway, &mut current);
             let change = current
                 .iter()
                 .zip(&gaps_used)
@@ -378,7 +414,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
                 break;
             }
         }
-        magnets.commit(step, t)?;
+        magnets.commit(step, t).lift()?;
         guideway.commit();
         veh.commit();
         gaps_prev.copy_from_slice(&gaps_used);
@@ -395,23 +431,24 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             guideway: &*guideway,
             midspans: &s.midspans,
             wheels: Wheels::Vehicle {
-                u: veh.u().as_slice(),
-                a: veh.a().as_slice(),
+                u: veh.u_all(),
+                a: veh.a_all(),
                 dofs: &dofs,
                 gaps: &gaps_used,
                 forces: &forces,
                 h0,
-                body_z: &v.cars,
+                body_z: &body_z,
             },
             iterations,
             collision,
-        })?;
+        })
+        .lift()?;
         let w1 = &v.wheels[0];
         records.push(Record {
             t,
             midspan: guideway.section_at(s.midspan_x),
-            wheel1_y: veh.u()[w1.dof_y],
-            wheel1_z: veh.u()[w1.dof_z],
+            wheel1_y: veh.u(w1.car, w1.dof_y),
+            wheel1_z: veh.u(w1.car, w1.dof_z),
             wheel1_gap_z: gaps_used[0].0,
             wheel1_force_z: forces[0].0,
             iterations,

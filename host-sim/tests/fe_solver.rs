@@ -234,7 +234,7 @@ fn train_over_three_damped_spans_matches_dense_reference() {
 
 fn passage(g: &mut impl Guideway) -> Outcome {
     let sc = maglev_host_sim::scenario::load("paper-4.2", &["scheme=accurate".into()]).unwrap();
-    let v = VehicleModel::fig1(&sc.fig1().unwrap(), maglev_core::levitation::GRAVITY);
+    let v = VehicleModel::fig1(&sc.fig1().unwrap(), maglev_core::levitation::GRAVITY).unwrap();
     let dt = sc.run.dt_s;
     let settings = Settings {
         speed: sc.run.speed_m_per_s,
@@ -255,7 +255,7 @@ fn passage(g: &mut impl Guideway) -> Outcome {
     };
     simulate(
         g,
-        &Load::Vehicle(v),
+        &Load::Vehicle(v.into()),
         &profiles,
         &settings,
         &mut maglev_host_sim::probes::NoRecorder,

@@ -60,6 +60,7 @@
 use crate::scalar::Scalar;
 
 pub mod accurate;
+pub mod batch;
 
 /// How the gap is interpolated inside one outer step for the internal loop (docs/model.md §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

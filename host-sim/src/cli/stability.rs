@@ -285,7 +285,8 @@ pub fn scenario_report(name: &str, sets: &[String]) -> Result<ScenarioReport, St
     let inner = sc.controller_params()?;
     let law = sc.law()?;
     let geometry = sc.geometry();
-    let v = crate::vehicle::VehicleModel::fig1(&fig, maglev_core::levitation::GRAVITY);
+    let v = crate::vehicle::VehicleModel::fig1(&fig, maglev_core::levitation::GRAVITY)
+        .map_err(|e| e.to_string())?;
     let plant = VehiclePlant::new(&v, &inner, &law, geometry)?;
     let vd = plant.verdict()?;
     let critical = critical_magnet_mass(&fig, &inner, &law, geometry)?;

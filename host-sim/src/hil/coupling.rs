@@ -13,7 +13,7 @@ use super::board::{force, Sensors};
 use super::link::Link;
 use super::HilSettings;
 use crate::simulation::{magnet_gaps, Law, Magnets, Outcome, Settings, WheelGaps};
-use crate::vehicle::VehicleModel;
+use crate::vehicle::Train;
 use maglev_core::gap::Geometry;
 use maglev_core::Status;
 use maglev_firmware_sim::protocol::{
@@ -61,7 +61,7 @@ pub struct FirmwareMagnets<'a> {
 impl<'a> FirmwareMagnets<'a> {
     /// Configures the firmware behind `link` (equilibrium at the initial gaps `gaps0`).
     pub fn new(
-        v: &VehicleModel,
+        v: &Train,
         gaps0: &[WheelGaps],
         s: &Settings,
         hs: &HilSettings,
@@ -152,6 +152,29 @@ impl Magnets for FirmwareMagnets<'_> {
         gaps_prev: &[WheelGaps],
         gaps_next: &[WheelGaps],
         out: &mut [(f64, f64)],
+    ) -> crate::Result<()> {
+        self.step_forces(step, gaps_prev, gaps_next, out)
+            .map_err(crate::Error::Firmware)
+    }
+
+    /// `Commit`; logs the step's events.
+    fn commit(&mut self, step: u32, t: f64) -> crate::Result<()> {
+        self.step_commit(step, t).map_err(crate::Error::Firmware)
+    }
+
+    /// The firmware reports through events, not the core's flags.
+    fn status(&self) -> Status {
+        Status::default()
+    }
+}
+
+impl FirmwareMagnets<'_> {
+    fn step_forces(
+        &mut self,
+        step: u32,
+        gaps_prev: &[WheelGaps],
+        gaps_next: &[WheelGaps],
+        out: &mut [(f64, f64)],
     ) -> Result<(), String> {
         let chans = |g: &[WheelGaps]| -> Vec<f64> {
             g.iter().flat_map(|&w| self.channel_gaps(w)).collect()
@@ -186,8 +209,7 @@ impl Magnets for FirmwareMagnets<'_> {
         Ok(())
     }
 
-    /// `Commit`; logs the step's events.
-    fn commit(&mut self, step: u32, t: f64) -> Result<(), String> {
+    fn step_commit(&mut self, step: u32, t: f64) -> Result<(), String> {
         match self.link.call(Request::Commit { step })? {
             Response::Committed { step: c } if c == step => {}
             other => return Err(format!("firmware refused to commit step {step}: {other:?}")),
@@ -201,10 +223,5 @@ impl Magnets for FirmwareMagnets<'_> {
             });
         }
         Ok(())
-    }
-
-    /// The firmware reports through events, not the core's flags.
-    fn status(&self) -> Status {
-        Status::default()
     }
 }

@@ -197,7 +197,8 @@ pub fn execute_hil(
         &mut magnets,
         rec,
         progress,
-    )?;
+    )
+    .map_err(|e| e.to_string())?;
     let out = HilOutcome {
         run,
         events: magnets.events,

@@ -252,7 +252,8 @@ pub fn fig1_with_mass(
         wheel_mass: mass,
         ..fig.clone()
     };
-    VehiclePlant::new(&VehicleModel::fig1(&fig, GRAVITY), inner, law, geometry)
+    let v = VehicleModel::fig1(&fig, GRAVITY).map_err(|e| e.to_string())?;
+    VehiclePlant::new(&v, inner, law, geometry)
 }
 
 /// Upper end of the critical-mass search (kg).

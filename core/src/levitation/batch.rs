@@ -1,0 +1,196 @@
+//! Several magnets' paper-scheme updates at once, for hosts: the internal loop of Eq. 14 is a
+//! dependent chain (`x → N → Δx → x`, with a division in it), so one controller runs at the
+//! chain's latency, about 13 ns a sub-step in f64. Independent magnets interleaved in one loop
+//! fill the pipeline instead (docs/performance.md).
+//!
+//! [`update_batch`] gives exactly the bits of [`Levitation::update`] on each magnet in turn:
+//! each lane performs the general path's operations in its order (floats, no contraction),
+//! and a lane that meets any event — a gap the update would clamp or refuse, the current
+//! floor, the voltage bound, a value no longer finite — is recomputed by
+//! [`Levitation::update`] from its saved state. The firmware's path is not touched.
+
+use super::{Interpolation, Levitation, Output, Scheme, State, Status};
+
+/// Magnets interleaved per loop.
+pub const LANES: usize = 4;
+
+/// One outer step of every magnet `i` with its own controller `ctl[i]`, state `st[i]` and
+/// per-unit gap `h[i]` at the end of the step: `out[i]` is what `ctl[i].update(&mut st[i],
+/// h[i])` returns, bit for bit. Controllers under [`Scheme::Accurate`] or with a different
+/// `n_sub` than the first magnet's simply take [`Levitation::update`].
+pub fn update_batch(
+    ctl: &[Levitation<f64>],
+    st: &mut [State<f64>],
+    h: &[f64],
+    out: &mut [Output<f64>],
+) {
+    let n = ctl.len();
+    assert!(st.len() == n && h.len() == n && out.len() == n);
+    let n_sub = ctl.first().map_or(1, |c| c.params.n_sub);
+    // Lanes the interleaved loop can take; the rest run alone.
+    let mut lane = [0usize; LANES];
+    let mut fill = 0;
+    for i in 0..n {
+        let c = &ctl[i];
+        let ok = c.params.scheme == Scheme::Paper
+            && c.params.n_sub == n_sub
+            && h[i] > 0.0
+            && h[i] <= c.h_max;
+        if !ok {
+            out[i] = c.update(&mut st[i], h[i]);
+            continue;
+        }
+        lane[fill] = i;
+        fill += 1;
+        if fill == LANES {
+            chunk(ctl, st, h, out, &lane, n_sub);
+            fill = 0;
+        }
+    }
+    for &i in &lane[..fill] {
+        out[i] = ctl[i].update(&mut st[i], h[i]);
+    }
+}
+
+/// [`LANES`] magnets `lane[..]` through the internal loop together.
+fn chunk(
+    ctl: &[Levitation<f64>],
+    st: &mut [State<f64>],
+    h: &[f64],
+    out: &mut [Output<f64>],
+    lane: &[usize; LANES],
+    n_sub: u32,
+) {
+    let c = lane.map(|i| &ctl[i]);
+    let mut x = lane.map(|i| st[i].x);
+    let mut y = lane.map(|i| st[i].y);
+    let mut v = lane.map(|i| st[i].v);
+    let eta0 = lane.map(|i| st[i].eta);
+    let eta1 = lane.map(|i| h[i] - 1.0);
+    let mut b1 = [0.0; LANES];
+    let mut b2 = [0.0; LANES];
+    for l in 0..LANES {
+        // As `advance` interpolates (docs/model.md §4).
+        (b1[l], b2[l]) = match c[l].params.interpolation {
+            Interpolation::Linear => (eta1[l] - eta0[l], 0.0),
+            Interpolation::Parabolic => {
+                let m = st[lane[l]].eta_prev;
+                let half = c[l].half;
+                (
+                    (eta1[l] - m) * half,
+                    ((eta1[l] - (eta0[l] + eta0[l])) + m) * half,
+                )
+            }
+        };
+    }
+    let one_kpd = c.map(|c| c.one_kpd);
+    let one_ca1 = c.map(|c| c.one_ca1);
+    let ca = c.map(|c| c.ca);
+    let cc = c.map(|c| c.c);
+    let kih = c.map(|c| c.kih);
+    let kpv = c.map(|c| c.kpv);
+    let inv_n = c.map(|c| c.inv_n);
+    let v_lim = c.map(|c| c.v_max);
+    let mut s = [0.0; LANES];
+    let mut event = [false; LANES];
+    for k in 1..=n_sub {
+        for l in 0..LANES {
+            let eta = if k == n_sub {
+                eta1[l]
+            } else {
+                s[l] += inv_n[l];
+                eta0[l] + s[l] * (b1[l] + s[l] * b2[l])
+            };
+            // `substep` without the reference, unchecked (events are flagged, not handled).
+            let factor = one_kpd[l] + eta;
+            let num = (y[l] - eta) - x[l] * factor;
+            let den = one_ca1[l] + ca[l] * eta;
+            let x1 = x[l] + (cc[l] * num) / den;
+            let y1 = y[l] - kih[l] * (x[l] + x1);
+            let v1 = (1.0 + y1) - kpv[l] * x1;
+            event[l] |= x1 < -1.0 || v1 > v_lim[l] || v1 < -v_lim[l];
+            x[l] = x1;
+            y[l] = y1;
+            v[l] = v1;
+        }
+    }
+    for l in 0..LANES {
+        let i = lane[l];
+        if event[l] || !(x[l].is_finite() && y[l].is_finite() && v[l].is_finite()) {
+            out[i] = c[l].update(&mut st[i], h[i]);
+            continue;
+        }
+        let s = &mut st[i];
+        s.x = x[l];
+        s.y = y[l];
+        s.v = v[l];
+        s.eta_prev = eta0[l];
+        s.eta = eta1[l];
+        let g = 1.0 + x[l];
+        out[i] = Output {
+            g,
+            force: g * g,
+            current: g * (1.0 + eta1[l]),
+            voltage: v[l],
+            status: Status::default(),
+        };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::levitation::Params;
+
+    /// Bit-identical to one `update` per magnet, for magnets of different loads, both
+    /// interpolations, gaps that move, and with events (collision, voltage bound, a NaN gap).
+    #[test]
+    fn batch_gives_the_bits_of_update() {
+        for interpolation in [Interpolation::Linear, Interpolation::Parabolic] {
+            for n_sub in [1, 7, 100] {
+                let ctls: [Levitation<f64>; 11] = core::array::from_fn(|i| {
+                    let mut p = Params::paper(30e3 + 1e3 * i as f64, 1e-3);
+                    p.n_sub = n_sub;
+                    p.interpolation = interpolation;
+                    if i == 5 {
+                        p.v_max = 60.0; // saturates on the large gap steps
+                    }
+                    p.compile().unwrap()
+                });
+                let mut a: [State<f64>; 11] =
+                    core::array::from_fn(|i| ctls[i].equilibrium_state(0.01 + 1e-4 * i as f64));
+                let mut b = a;
+                let mut out = [Output::default(); 11];
+                for step in 0..200 {
+                    let h: [f64; 11] = core::array::from_fn(|i| {
+                        let t = step as f64 * 1e-3;
+                        let mut h = 1.0 + 0.3 * triangle(6.0 * t + 0.1 * i as f64);
+                        if i == 3 && step == 50 {
+                            h = -0.1; // collision
+                        }
+                        if i == 7 && step == 60 {
+                            h = f64::NAN;
+                        }
+                        h
+                    });
+                    update_batch(&ctls, &mut b, &h, &mut out);
+                    for i in 0..11 {
+                        let want = ctls[i].update(&mut a[i], h[i]);
+                        assert_eq!(out[i], want, "magnet {i} step {step} n_sub {n_sub}");
+                        assert_eq!(a[i], b[i]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// A triangle wave of period 1 between −1 and 1 (test gaps without std).
+    fn triangle(x: f64) -> f64 {
+        let f = x - (x as i64) as f64;
+        if f < 0.5 {
+            4.0 * f - 1.0
+        } else {
+            3.0 - 4.0 * f
+        }
+    }
+}
