@@ -56,7 +56,9 @@ impl AnyGuideway {
     pub fn new(model: Model, bridge: &Bridge, sc: &Scenario) -> Result<Self, String> {
         let dt = sc.run.dt_s;
         Ok(match model {
-            Model::Fe => AnyGuideway::Fe(FeGuideway::new(bridge, sc.run.elements_per_span, dt)?),
+            Model::Fe => AnyGuideway::Fe(
+                FeGuideway::new(bridge, sc.run.elements_per_span, dt).map_err(|e| e.to_string())?,
+            ),
             Model::Modal => AnyGuideway::Modal(
                 ModalGuideway::from_bridge(bridge, sc.run.modes, dt).map_err(|e| e.to_string())?,
             ),

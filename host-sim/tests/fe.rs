@@ -402,6 +402,7 @@ fn modes_cli_json_matches_closed_form() {
         elements: 20,
         count: 12,
         format: Format::Json,
+        viaduct: None,
     };
     let v: serde_json::Value = serde_json::from_str(&render(&args).unwrap()).unwrap();
     let rows = v.as_array().unwrap();
@@ -430,6 +431,7 @@ fn modes_cli_json_matches_closed_form() {
         elements: 20,
         count: 3,
         format: Format::Csv,
+        viaduct: None,
     })
     .unwrap();
     assert_eq!(csv.lines().next(), Some("index,frequency_hz,kind"));
@@ -445,6 +447,7 @@ fn modes_cli_rejects_bad_arguments() {
             elements,
             count,
             format: Format::Csv,
+            viaduct: None,
         })
         .unwrap_err();
         assert!(!e.contains('\n'), "{e}");
@@ -453,7 +456,8 @@ fn modes_cli_rejects_bad_arguments() {
     assert!(render(&Args {
         elements: 20,
         count: 119,
-        format: Format::Csv
+        format: Format::Csv,
+        viaduct: None,
     })
     .is_ok());
 }

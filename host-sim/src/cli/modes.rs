@@ -29,6 +29,10 @@ pub struct Args {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Json)]
     pub format: Format,
+    /// Instead of the §4.2 beam: the paper-5 viaduct (docs/viaduct.md) with this many spans
+    /// (35 in the paper), `--elements` per girder, by sparse subspace iteration.
+    #[arg(long, value_name = "SPANS")]
+    pub viaduct: Option<usize>,
 }
 
 #[derive(serde::Serialize)]
@@ -46,7 +50,11 @@ pub fn render(args: &Args) -> Result<String, String> {
             args.elements
         ));
     }
-    let model = SpanModel::new(&BeamSection::paper_4_2(), SPAN_LENGTH, args.elements)?;
+    if let Some(spans) = args.viaduct {
+        return render_rows(args.format, &viaduct_rows(args, spans)?);
+    }
+    let model = SpanModel::new(&BeamSection::paper_4_2(), SPAN_LENGTH, args.elements)
+        .map_err(|e| e.to_string())?;
     let dofs = model.free_dofs();
     if args.count == 0 || args.count > dofs {
         return Err(format!(
@@ -54,7 +62,8 @@ pub fn render(args: &Args) -> Result<String, String> {
             args.elements, args.count
         ));
     }
-    let rows: Vec<Row> = natural_modes(&model)?
+    let rows: Vec<Row> = natural_modes(&model)
+        .map_err(|e| e.to_string())?
         .into_iter()
         .take(args.count)
         .enumerate()
@@ -64,11 +73,39 @@ pub fn render(args: &Args) -> Result<String, String> {
             kind: m.kind.as_str(),
         })
         .collect();
-    Ok(match args.format {
+    render_rows(args.format, &rows)
+}
+
+/// Largest viaduct accepted by `--viaduct`.
+pub const MAX_SPANS: usize = 100;
+
+fn viaduct_rows(args: &Args, spans: usize) -> Result<Vec<Row>, String> {
+    if spans == 0 || spans > MAX_SPANS {
+        return Err(format!(
+            "--viaduct must be between 1 and {MAX_SPANS} spans, got {spans}"
+        ));
+    }
+    let mut spec = crate::fe::paper5_viaduct().with_spans(spans);
+    spec.elements_per_span = args.elements;
+    let (structure, _) = crate::fe::viaduct::assemble(&spec).map_err(|e| e.to_string())?;
+    let modes = crate::fe::lowest_modes(&structure, args.count).map_err(|e| e.to_string())?;
+    Ok(modes
+        .into_iter()
+        .enumerate()
+        .map(|(i, m)| Row {
+            index: i + 1,
+            frequency_hz: m.frequency_hz,
+            kind: m.kind.as_str(),
+        })
+        .collect())
+}
+
+fn render_rows(format: Format, rows: &[Row]) -> Result<String, String> {
+    Ok(match format {
         Format::Json => serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())? + "\n",
         Format::Csv => {
             let mut s = String::from("index,frequency_hz,kind\n");
-            for r in &rows {
+            for r in rows {
                 s += &format!("{},{},{}\n", r.index, r.frequency_hz, r.kind);
             }
             s

@@ -16,6 +16,7 @@ use super::banded::SymBanded;
 use super::cholesky::SparseCholesky;
 use super::element;
 use crate::guideway::{BeamSection, PointMotion, SectionMotion};
+use crate::Error;
 use maglev_core::gap::{dof, locate, ElementVector, WheelShape, DOFS_PER_NODE, ELEMENT_DOFS};
 use nalgebra::DVector;
 
@@ -63,13 +64,17 @@ pub struct SpanModel {
 
 impl SpanModel {
     /// Assemble `elements` equal Timoshenko elements over a span of `length`.
-    pub fn new(section: &BeamSection, length: f64, elements: usize) -> Result<Self, String> {
+    pub fn new(section: &BeamSection, length: f64, elements: usize) -> crate::Result<Self> {
         if elements == 0 {
-            return Err("a span needs at least 1 element".into());
+            return Err(Error::invalid(
+                "elements_per_span",
+                format!("must be at least 1, got {elements}"),
+            ));
         }
         if !(length.is_finite() && length > 0.0) {
-            return Err(format!(
-                "span length must be positive and finite, got {length}"
+            return Err(Error::invalid(
+                "span length",
+                format!("must be positive and finite, got {length}"),
             ));
         }
         let n_nodes = elements + 1;
@@ -226,7 +231,7 @@ impl SpanModel {
 
     /// Cholesky factor of the stiffness (for static solves); fails if K is not positive
     /// definite (it is, for a supported span with positive properties).
-    pub fn stiffness_factor(&self) -> Result<SparseCholesky, String> {
-        SparseCholesky::new(&self.k).map_err(|e| format!("span stiffness: {e}"))
+    pub fn stiffness_factor(&self) -> crate::Result<SparseCholesky> {
+        SparseCholesky::new(&self.k).map_err(|e| Error::numerical(format!("span stiffness: {e}")))
     }
 }

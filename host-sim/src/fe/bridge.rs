@@ -31,6 +31,7 @@ use super::assembly::SpanModel;
 use super::cholesky::{Scratch, SparseCholesky};
 use super::newmark::{Rayleigh, SpanNewmark, State};
 use crate::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
+use crate::Error;
 use nalgebra::DVector;
 use rayon::prelude::*;
 
@@ -130,7 +131,7 @@ pub struct FeGuideway {
 
 impl FeGuideway {
     /// Model `bridge` with `elements_per_span` equal elements per span, undamped, step `dt`.
-    pub fn new(bridge: &Bridge, elements_per_span: usize, dt: f64) -> Result<Self, String> {
+    pub fn new(bridge: &Bridge, elements_per_span: usize, dt: f64) -> crate::Result<Self> {
         Self::with_damping(bridge, elements_per_span, dt, None)
     }
 
@@ -140,9 +141,12 @@ impl FeGuideway {
         elements_per_span: usize,
         dt: f64,
         damping: Option<Rayleigh>,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         if bridge.spans.is_empty() {
-            return Err("the bridge has no spans".into());
+            return Err(Error::invalid(
+                "bridge.spans",
+                "must hold at least 1 span, got 0",
+            ));
         }
         let mut systems: Vec<SpanSystem> = Vec::new();
         let mut spans = Vec::with_capacity(bridge.spans.len());

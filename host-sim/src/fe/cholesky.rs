@@ -11,6 +11,7 @@
 //! allocates and several spans can be solved at once (one scratch each).
 
 use super::banded::SymBanded;
+use crate::Error;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::{
@@ -39,21 +40,21 @@ impl core::fmt::Debug for Scratch {
 
 impl SparseCholesky {
     /// Factorise `a`; fails if it is not positive definite.
-    pub fn new(a: &SymBanded) -> Result<Self, String> {
+    pub fn new(a: &SymBanded) -> crate::Result<Self> {
         let n = a.nrows();
         let triplets: Vec<Triplet<usize, usize, f64>> = a
             .lower_entries()
             .map(|(i, j, v)| Triplet::new(i, j, v))
             .collect();
         let csc = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets)
-            .map_err(|e| format!("sparse matrix assembly failed: {e:?}"))?;
+            .map_err(|e| Error::numerical(format!("sparse matrix assembly failed: {e:?}")))?;
         let symbolic = factorize_symbolic_cholesky(
             csc.symbolic(),
             Side::Lower,
             SymmetricOrdering::Amd,
             CholeskySymbolicParams::default(),
         )
-        .map_err(|e| format!("symbolic Cholesky failed: {e:?}"))?;
+        .map_err(|e| Error::numerical(format!("symbolic Cholesky failed: {e:?}")))?;
         let mut values = vec![0.0; symbolic.len_val()];
         let mut buf = MemBuffer::new(
             symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
@@ -68,7 +69,7 @@ impl SparseCholesky {
                 MemStack::new(&mut buf),
                 Default::default(),
             )
-            .map_err(|_| "matrix is not positive definite".to_string())?;
+            .map_err(|_| Error::numerical("matrix is not positive definite"))?;
         Ok(SparseCholesky { symbolic, values })
     }
 

@@ -9,7 +9,12 @@
 //! - [`newmark`]: average-acceleration Newmark with a once-factorised effective stiffness;
 //! - [`bridge`]: [`FeGuideway`], a whole [`crate::guideway::Bridge`] behind the
 //!   [`crate::guideway::Guideway`] interface;
-//! - [`modes`]: natural frequencies and mode kinds.
+//! - [`modes`]: natural frequencies and mode kinds;
+//! - [`structure`]: a general coupled frame (beams along X or Z, springs, dashpots, lumped
+//!   masses) and its modes;
+//! - [`soil`]: Gazetas' footing impedance;
+//! - [`viaduct`]: [`Viaduct`], the §5 viaduct (girders, bearings, piers, foundations) as one
+//!   coupled structure behind [`crate::guideway::Guideway`].
 //!
 //! Building and stepping a bridge (one Newton–Raphson iteration per `solve_step`):
 //!
@@ -34,9 +39,14 @@ pub mod cholesky;
 pub mod element;
 pub mod modes;
 pub mod newmark;
+pub mod soil;
+pub mod structure;
+pub mod viaduct;
 
 pub use assembly::{DofFamily, SpanModel};
 pub use banded::{SymBanded, SymSparse};
 pub use bridge::FeGuideway;
 pub use modes::{natural_modes, Mode, ModeKind};
 pub use newmark::{Newmark, Rayleigh, SpanNewmark, State};
+pub use structure::{dense_modes, lowest_modes, Structure};
+pub use viaduct::{paper5_viaduct, Viaduct, ViaductSpec};

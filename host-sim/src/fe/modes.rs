@@ -18,7 +18,12 @@
 //! in that same order, so the output is deterministic.
 
 use super::assembly::{DofFamily, SpanModel};
+use crate::Error;
 use nalgebra::{Cholesky, DMatrix, DVector, SymmetricEigen};
+
+fn singular() -> Error {
+    Error::numerical("singular mass factor")
+}
 
 /// Kind of a mode (see the module docs for the rule).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -104,7 +109,7 @@ fn blocks(model: &SpanModel) -> Vec<Vec<usize>> {
 }
 
 /// All natural modes of a span, ascending in frequency (see the module docs).
-pub fn natural_modes(model: &SpanModel) -> Result<Vec<Mode>, String> {
+pub fn natural_modes(model: &SpanModel) -> crate::Result<Vec<Mode>> {
     let n = model.free_dofs();
     let families: Vec<DofFamily> = model.families().collect();
     let mut modes = Vec::with_capacity(n);
@@ -113,21 +118,19 @@ pub fn natural_modes(model: &SpanModel) -> Result<Vec<Mode>, String> {
         let k = DMatrix::from_fn(nb, nb, |i, j| model.k[(block[i], block[j])]);
         let m = DMatrix::from_fn(nb, nb, |i, j| model.m[(block[i], block[j])]);
         let l = Cholesky::new(m.clone())
-            .ok_or("mass matrix is not positive definite")?
+            .ok_or_else(|| Error::numerical("mass matrix is not positive definite"))?
             .l();
         // A = L⁻¹ K L⁻ᵀ
-        let x = l.solve_lower_triangular(&k).ok_or("singular mass factor")?;
+        let x = l.solve_lower_triangular(&k).ok_or_else(singular)?;
         let a = l
             .solve_lower_triangular(&x.transpose())
-            .ok_or("singular mass factor")?;
+            .ok_or_else(singular)?;
         let a = (&a + a.transpose()) * 0.5;
         let eig = SymmetricEigen::new(a);
         let lt = l.transpose();
         for (col, &lambda) in eig.eigenvalues.iter().enumerate() {
             let y = eig.eigenvectors.column(col).into_owned();
-            let phi_b = lt
-                .solve_upper_triangular(&y)
-                .ok_or("singular mass factor")?;
+            let phi_b = lt.solve_upper_triangular(&y).ok_or_else(singular)?;
             // Kinetic-energy shares within the block (M has no entries outside it).
             let mphi = &m * &phi_b;
             let mut share = [0.0f64; 4];

@@ -15,7 +15,13 @@
 
 use super::banded::{SymBanded, SymSparse, ToDense};
 use super::cholesky::{Scratch, SparseCholesky};
+use crate::Error;
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+
+/// The one-line error for a bad time step.
+fn time_step_error(dt: f64) -> Error {
+    Error::invalid("dt", format!("must be positive and finite, got {dt}"))
+}
 
 /// Rayleigh damping C = α M + β K.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -68,9 +74,9 @@ impl Newmark {
         m: &A,
         damping: Option<Rayleigh>,
         dt: f64,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(format!("time step must be positive and finite, got {dt}"));
+            return Err(time_step_error(dt));
         }
         let (k, m) = (k.to_dense_matrix(), m.to_dense_matrix());
         let c = damping.map(|r| &m * r.alpha + &k * r.beta);
@@ -84,15 +90,16 @@ impl Newmark {
         m: &DMatrix<f64>,
         c: Option<DMatrix<f64>>,
         dt: f64,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(format!("time step must be positive and finite, got {dt}"));
+            return Err(time_step_error(dt));
         }
         let mut keff = k + m * (4.0 / (dt * dt));
         if let Some(c) = &c {
             keff += c * (2.0 / dt);
         }
-        let keff = Cholesky::new(keff).ok_or("effective stiffness is not positive definite")?;
+        let keff = Cholesky::new(keff)
+            .ok_or_else(|| Error::numerical("effective stiffness is not positive definite"))?;
         Ok(Newmark {
             dt,
             m: m.clone(),
@@ -154,16 +161,31 @@ impl SpanNewmark {
         m: &SymBanded,
         damping: Option<Rayleigh>,
         dt: f64,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(format!("time step must be positive and finite, got {dt}"));
+            return Err(time_step_error(dt));
         }
         let c = damping.map(|r| m.combine(r.alpha, k, r.beta));
+        Self::with_damping_matrix(k, m, c, dt)
+    }
+
+    /// As [`SpanNewmark::new`] with an arbitrary symmetric damping matrix `c` (e.g. discrete
+    /// foundation dashpots plus Rayleigh damping).
+    pub fn with_damping_matrix(
+        k: &SymBanded,
+        m: &SymBanded,
+        c: Option<SymBanded>,
+        dt: f64,
+    ) -> crate::Result<Self> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(time_step_error(dt));
+        }
         let mut keff = k.combine(1.0, m, 4.0 / (dt * dt));
         if let Some(c) = &c {
             keff = keff.combine(1.0, c, 2.0 / dt);
         }
-        let keff = SparseCholesky::new(&keff).map_err(|e| format!("effective stiffness: {e}"))?;
+        let keff = SparseCholesky::new(&keff)
+            .map_err(|e| Error::numerical(format!("effective stiffness: {e}")))?;
         Ok(SpanNewmark {
             dt,
             m: SymSparse::new(m),
