@@ -230,7 +230,11 @@ impl Fig6 {
         let held: Vec<usize> = wheels.iter().flat_map(|w| [w.dof_y, w.dof_z]).collect();
         let (_, r) = static_solution(&k, &f, &held)?;
         let p0: Vec<f64> = wheels.iter().map(|w| r[w.dof_z]).collect();
-        if let Some((i, p)) = p0.iter().enumerate().find(|(_, p)| !(**p > 0.0)) {
+        if let Some((i, p)) = p0
+            .iter()
+            .enumerate()
+            .find(|(_, p)| p.is_nan() || **p <= 0.0)
+        {
             return Err(Error::numerical(format!(
                 "fig6: magnet {} carries no load in the static solution ({p} N)",
                 i + 1

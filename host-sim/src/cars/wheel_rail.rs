@@ -235,7 +235,7 @@ impl WheelRail {
             {
                 let dof_z = 9 + 2 * a + s;
                 let p0 = r[dof_z];
-                if !(p0 > 0.0) {
+                if p0.is_nan() || p0 <= 0.0 {
                     return Err(Error::numerical(format!(
                         "wheel_rail: wheel {} carries no load in the static solution ({p0} N)",
                         2 * a + s + 1
