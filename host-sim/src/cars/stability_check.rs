@@ -18,7 +18,7 @@ fn verdict(p: &Fig6) -> crate::stability::vehicle::Verdict {
         k: car.k,
         wheels: car.wheels,
         p0: car.p0,
-        cars: vec![car.body_z],
+        body_z: car.body_z,
     };
     VehiclePlant::new(&v, &Params::paper_wheel(1e-3), &Law::Paper, Geometry::Paper)
         .unwrap()
