@@ -468,3 +468,37 @@ fn bad_parameters_are_refused_with_the_key() {
     .unwrap_err();
     assert!(e.to_string().starts_with("wheel_rail.half_bogie_spacing:"));
 }
+
+#[test]
+fn static_reactions_follow_the_lever_rule_off_centre() {
+    // A body (heave, pitch) whose CoM sits 3 m from one support and 1 m from the other, on
+    // two springs of different stiffness, nodes held: statically determinate, so the lever
+    // rule gives the reactions W·1/4 and W·3/4 whatever the springs.
+    let body = Rigid::new([0.0; 3]).dof(UZ, 0).dof(RY, 1);
+    let (pa, pb) = ([3.0, 0.0, 0.0], [-1.0, 0.0, 0.0]);
+    let (na, nb) = (Rigid::new(pa).dof(UZ, 2), Rigid::new(pb).dof(UZ, 3));
+    let (mut k, mut c) = (DMatrix::zeros(4, 4), DMatrix::zeros(4, 4));
+    add_spring_damper(
+        &mut k,
+        &mut c,
+        (1e5, 0.0),
+        Axis::Z,
+        End { body: &na, p: pa },
+        End { body: &body, p: pa },
+    )
+    .unwrap();
+    add_spring_damper(
+        &mut k,
+        &mut c,
+        (7e5, 0.0),
+        Axis::Z,
+        End { body: &nb, p: pb },
+        End { body: &body, p: pb },
+    )
+    .unwrap();
+    let mut f = DVector::zeros(4);
+    body.add_weight(&mut f, 1000.0, G);
+    let (_, r) = static_solution(&k, &f, &[2, 3]).unwrap();
+    assert!((r[2] - 0.25 * 1000.0 * G).abs() < 1e-9);
+    assert!((r[3] - 0.75 * 1000.0 * G).abs() < 1e-9);
+}
