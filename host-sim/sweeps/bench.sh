@@ -9,10 +9,12 @@ maglev=${MAGLEV:-target/release/maglev}
 [ -x "$maglev" ] || cargo build --release -q -p maglev-host-sim
 rm -rf "$out" && mkdir -p "$out"
 echo "load before: $(cut -d' ' -f1-3 /proc/loadavg) (1, 5, 15 min) on $(nproc) cores"
+TIMEFORMAT='  (bash time: %R s wall, %U s user, %S s sys)'
 t0=$(date +%s.%N)
-"$maglev" sweep host-sim/sweeps/seeds-100.toml --jobs 1 --out "$out/jobs1"
+time "$maglev" sweep host-sim/sweeps/seeds-100.toml --jobs 1 --out "$out/jobs1"
 t1=$(date +%s.%N)
-"$maglev" sweep host-sim/sweeps/seeds-100.toml --jobs 2 --out "$out/jobs2"
+echo "load between: $(cut -d' ' -f1-3 /proc/loadavg)"
+time "$maglev" sweep host-sim/sweeps/seeds-100.toml --jobs 2 --out "$out/jobs2"
 t2=$(date +%s.%N)
 echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
 cmp "$out/jobs1/results.csv" "$out/jobs2/results.csv"
