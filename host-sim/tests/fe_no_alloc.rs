@@ -1,6 +1,7 @@
 //! The FE guideway's time loop does not allocate: a counting global allocator (this test
 //! binary only) counts the allocations made on this thread by `solve_step`, `motion_at`,
-//! `section_at` and `commit` over a train crossing three spans, serial mode. (The rayon mode
+//! `section_at` and `commit` over a train crossing three spans, serial mode, for the FE spans
+//! and for the coupled viaduct. (The rayon mode
 //! hands work to the pool, whose job queues may allocate; it is not covered.)
 
 use maglev_host_sim::fe::FeGuideway;
@@ -74,4 +75,42 @@ fn time_loop_does_not_allocate() {
     let v = std::hint::black_box(vec![1u8; 10]);
     assert_eq!(count() - before, 1);
     drop(v);
+}
+
+/// The same for the coupled viaduct (host-sim/src/fe/viaduct.rs), including the pier-base
+/// query the `pier{K}.base.*` probes use.
+#[test]
+fn viaduct_time_loop_does_not_allocate() {
+    use maglev_host_sim::fe::{paper5_viaduct, Viaduct};
+    let mut spec = paper5_viaduct().with_spans(3);
+    spec.elements_per_span = 8;
+    let dt = 2e-3;
+    let mut v = Viaduct::new(&spec, dt).unwrap();
+    let mut loads = vec![PointLoad::default(); 32];
+    let before = count();
+    let mut sum = 0.0;
+    for n in 1..=600 {
+        let lead = 83.33 * dt * n as f64;
+        for (j, l) in loads.iter_mut().enumerate() {
+            *l = PointLoad {
+                x: lead - 1.5625 * (j / 2) as f64,
+                ey: if j % 2 == 0 { 1.25 } else { 3.25 },
+                ez: 1.0,
+                fy: 1e3,
+                fz: -25e3,
+            };
+        }
+        for _ in 0..3 {
+            v.solve_step(&loads);
+            sum += loads
+                .iter()
+                .map(|l| v.motion_at(l.x, l.ey, l.ez).z)
+                .sum::<f64>();
+        }
+        v.commit();
+        sum += v.section_at(45.0).z + v.pier_base(2).map_or(0.0, |b| b.az);
+    }
+    let allocations = count() - before;
+    assert!(sum < 0.0, "the loads deflect the spans");
+    assert_eq!(allocations, 0, "allocations in the viaduct time loop");
 }

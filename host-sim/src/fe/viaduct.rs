@@ -571,7 +571,7 @@ pub fn paper5_viaduct() -> ViaductSpec {
         girder,
         elements_per_span: 16,
         bearings: BearingSpec {
-            vertical: 3.0e9,
+            vertical: 1.0e9,
             spacing: 4.4,
             lateral: 2.0e10,
             longitudinal: 2.0e10,
