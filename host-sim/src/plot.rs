@@ -287,7 +287,7 @@ fn tick_label(v: f64, span: f64, magnitude: f64) -> String {
     if v.abs() < 1e-9 * span {
         return "0".into();
     }
-    if magnitude >= 1e5 || magnitude < 1e-3 {
+    if !(1e-3..1e5).contains(&magnitude) {
         return format!("{v:.2e}");
     }
     let step = span / 8.0;

@@ -104,7 +104,8 @@ impl Progress {
                     .progress_chars("=> ");
                 let bar = ProgressBar::with_draw_target(Some(self.len), target())
                     .with_style(style)
-                    .with_prefix(self.prefix.clone());
+                    .with_prefix(self.prefix.clone())
+                    .with_elapsed(self.start.elapsed());
                 bar.enable_steady_tick(Duration::from_millis(200));
                 self.bar = Some(bar);
             }
