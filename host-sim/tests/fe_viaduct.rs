@@ -311,8 +311,9 @@ fn first_frequencies_converge_with_elements_per_span() {
             ]
         })
         .collect();
+    let [coarse, mid, fine] = [&runs[0], &runs[1], &runs[2]];
     for k in 0..3 {
-        let (a, b, c) = (runs[0][k], runs[1][k], runs[2][k]);
+        let (a, b, c) = (coarse[k], mid[k], fine[k]);
         assert!(a >= b && b >= c, "kind {k}: {a} {b} {c}");
         assert!(
             (b - c) < 0.5 * (a - b) || (a - c) < 1e-9 * c,

@@ -121,7 +121,8 @@ pub fn gazetas_rectangle(soil: &Soil, along_x: f64, across_y: f64) -> crate::Res
 mod tests {
     use super::*;
 
-    /// A square footing: the two horizontal and the two rocking values coincide, and the
+    /// A square footing: the two horizontal values coincide, the two rocking ones differ by
+    /// exactly the spread of Gazetas' fits, and the
     /// vertical one matches the circle of equal area within Gazetas' few per cent
     /// (K_z,circle = 4 G R / (1 − ν)).
     #[test]
@@ -133,7 +134,10 @@ mod tests {
         };
         let z = gazetas_rectangle(&soil, 8.0, 8.0).unwrap();
         assert_eq!(z.stiffness[0], z.stiffness[1]);
-        assert_eq!(z.stiffness[3], z.stiffness[4]);
+        // Gazetas' two rocking fits do not coincide for a square: 2.9 (K_rx, (2.4 + 0.5 B/L)
+        // at B = L) against 3 (K_ry) times G/(1 − ν)·I^0.75, a 3.4 % spread of the fits.
+        let spread = z.stiffness[3].max(z.stiffness[4]) / z.stiffness[3].min(z.stiffness[4]);
+        assert!((spread - 3.0 / 2.9).abs() < 1e-12, "{spread}");
         let r = (64.0 / std::f64::consts::PI).sqrt();
         let circle = 4.0 * soil.shear_modulus() * r / (1.0 - 0.3);
         let rel = z.stiffness[2] / circle - 1.0;

@@ -153,10 +153,10 @@ impl Builder {
 
     /// A lumped mass `m` (translations) and rotary inertias `j` (about X, Y, Z) at node `a`.
     pub fn lumped(&mut self, a: usize, m: f64, j: [f64; 3]) {
-        for d in 0..3 {
+        for (d, &jd) in j.iter().enumerate() {
             let i = a * DOFS_PER_NODE + d;
             push(&mut self.m, i, i, m);
-            push(&mut self.m, i + 3, i + 3, j[d]);
+            push(&mut self.m, i + 3, i + 3, jd);
         }
     }
 
