@@ -395,22 +395,7 @@ pub(crate) fn convert<S: Scalar>(
     value: f64,
     tolerance: f64,
 ) -> Result<S, ParamError> {
-    let mut ov = false;
-    let s = S::from_f64(value, &mut ov);
-    let rel = if value == 0.0 {
-        0.0
-    } else {
-        ((s.to_f64() - value) / value).abs()
-    };
-    if ov || rel.is_nan() || rel > tolerance {
-        return Err(ParamError::Unrepresentable {
-            name,
-            value,
-            relative_error: rel,
-            scalar: S::NAME,
-        });
-    }
-    Ok(s)
+    convert_scaled(name, value, value, tolerance)
 }
 
 /// `value` in the run-time type with an absolute error of at most `tolerance·scale` (else
