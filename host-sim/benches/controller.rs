@@ -65,17 +65,18 @@ fn passage(c: &mut Criterion) {
         ),
     ] {
         let sets: Vec<String> = sets.into_iter().map(String::from).collect();
-        let sc = maglev_host_sim::scenario::load("paper-4.2", &sets).unwrap();
+        let case = maglev_host_sim::case::Case::load("paper-4.2", &sets).unwrap();
         g.bench_function(name, |b| {
             b.iter(|| {
                 black_box(
-                    maglev_host_sim::setup::run_scenario(
-                        &sc,
+                    maglev_host_sim::setup::simulate(
+                        &case,
+                        maglev_host_sim::setup::Controllers::Core,
                         &mut maglev_host_sim::probes::NoRecorder,
                         |_| {},
                     )
                     .unwrap()
-                    .1,
+                    .wall,
                 )
             })
         });

@@ -3,14 +3,14 @@
 //! multi-span FE viaduct (serial and with the cars on rayon). docs/performance.md.
 
 use criterion::{black_box, criterion_group, criterion_main, BatchSize, Criterion};
+use maglev_host_sim::case::Case;
 use maglev_host_sim::probes::NoRecorder;
-use maglev_host_sim::scenario;
 use maglev_host_sim::setup::Passage;
 use maglev_host_sim::simulation::{simulate, Load};
 
 fn passage(sets: &[&str]) -> Passage {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    Passage::new(&scenario::load("paper-4.2", &sets).unwrap()).unwrap()
+    Passage::new(&Case::load("paper-4.2", &sets).unwrap()).unwrap()
 }
 
 fn run(mut p: Passage) -> usize {

@@ -1,7 +1,12 @@
 //! Host-side simulators: the guideway (FE and modal reference), vehicles, coupling, CLI.
+//!
+//! Data flows one way: `cli/` parses arguments into a [`case::Case`], [`setup::simulate`] runs
+//! it, [`output`] writes it. Nothing outside `cli/` imports from `cli/` (tests/layering.rs).
 pub mod bands;
 pub mod cars;
+pub mod case;
 pub mod cli;
+pub mod control;
 pub mod error;
 pub mod fe;
 pub mod guideway;
@@ -17,6 +22,7 @@ pub mod setup;
 pub mod simulation;
 pub mod stability;
 pub mod sweep;
+pub mod validation;
 pub mod vehicle;
 
 pub use error::{Error, Result};

@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use maglev_host_sim::cli;
+use std::process::ExitCode;
 
 #[derive(Parser)]
 #[command(
@@ -38,25 +39,35 @@ enum Command {
     Sweep(cli::sweep::Args),
 }
 
-fn main() {
+/// Exit status: 0 done, 2 an error (one line on stderr), 3 `run --strict` refused the run.
+fn main() -> ExitCode {
     let args = Cli::parse();
-    let result = match args.command {
-        Command::Control(a) => cli::control::run(a),
-        Command::Irregularity(a) => cli::irregularity::run(a),
+    let msg = anyhow::Error::msg;
+    let result: anyhow::Result<()> = match args.command {
+        Command::Control(a) => cli::control::run(a).map_err(msg),
+        Command::Irregularity(a) => cli::irregularity::run(a).map_err(msg),
         Command::Run(a) => match cli::run::run(a) {
             Ok(true) => Ok(()),
-            Ok(false) => std::process::exit(3),
+            Ok(false) => return ExitCode::from(3),
             Err(e) => Err(e),
         },
-        Command::Modes(a) => cli::modes::run(a),
+        Command::Modes(a) => cli::modes::run(a).map_err(msg),
         Command::Validate(a) => cli::validate::run_cmd(a),
-        Command::Stability(a) => cli::stability::run(a),
+        Command::Stability(a) => cli::stability::run(a).map_err(msg),
         Command::Hil(a) => cli::hil::run(a),
-        Command::Bands(a) => cli::bands::run(a),
-        Command::Sweep(a) => cli::sweep::run(a).map_err(|e| e.to_string()),
+        Command::Bands(a) => cli::bands::run(a).map_err(msg),
+        Command::Sweep(a) => cli::sweep::run(a).map_err(anyhow::Error::from),
     };
-    if let Err(e) = result {
-        eprintln!("maglev: error: {e}");
-        std::process::exit(2);
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // One line: the causes joined, as the library words them.
+            let line = format!("{e:#}")
+                .split_whitespace()
+                .collect::<Vec<_>>()
+                .join(" ");
+            eprintln!("maglev: error: {line}");
+            ExitCode::from(2)
+        }
     }
 }

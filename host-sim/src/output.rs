@@ -3,10 +3,11 @@
 
 pub mod staging;
 
+use crate::case::Case;
 use crate::plot::{self, Plot, Series};
 use crate::probes::CsvRecorder;
-use crate::scenario::Scenario;
 use crate::simulation::{GapRanges, Outcome, Record};
+use crate::{Error, Result};
 use serde::Serialize;
 pub use staging::Staging;
 use std::fmt::Write as _;
@@ -50,9 +51,12 @@ pub fn peak(records: &[Record], get: Getter) -> Option<Peak> {
 pub struct Summary {
     pub scenario: String,
     pub model: String,
-    /// The resolved case: every scenario value the run used, after the `--set` overrides
-    /// (in the scenario file's units).
-    pub case: Scenario,
+    /// The resolved case: every value the run used, in SI, the unit in each key
+    /// ([`Case::record`]).
+    pub case: serde_json::Value,
+    /// The magnets' nominal gap h0 (m); 0 for a train of forces (no gaps).
+    #[serde(skip)]
+    pub h0: f64,
     pub simulated_seconds: f64,
     pub wall_seconds: f64,
     pub real_time_factor: f64,
@@ -95,7 +99,7 @@ pub fn gap_ranges(ranges: &GapRanges) -> Vec<GapRange> {
 }
 
 impl Summary {
-    pub fn new(scenario: &str, case: &Scenario, outcome: &Outcome, wall: f64) -> Self {
+    pub fn new(scenario: &str, case: &Case, outcome: &Outcome, wall: f64) -> Self {
         let records = &outcome.records;
         let steps = records.len().saturating_sub(1);
         let simulated = records.last().map_or(0.0, |r| r.t);
@@ -112,12 +116,9 @@ impl Summary {
             .collect();
         Summary {
             scenario: scenario.to_string(),
-            model: format!("{:?}", case.run.model).to_lowercase(),
-            case: {
-                let mut c = case.clone();
-                c.run.t_end_s = Some(case.t_end());
-                c
-            },
+            model: format!("{:?}", case.model).to_lowercase(),
+            case: case.record(),
+            h0: case.h0(),
             simulated_seconds: simulated,
             wall_seconds: wall,
             real_time_factor: if wall > 0.0 {
@@ -151,10 +152,11 @@ pub fn profile_csv(profile: &[[f64; 3]]) -> String {
 pub fn response_recorder(
     dir: &Staging,
     probes: crate::probes::Probes,
-) -> Result<CsvRecorder<std::io::BufWriter<std::fs::File>>, String> {
+) -> Result<CsvRecorder<std::io::BufWriter<std::fs::File>>> {
     let p = dir.path("response.csv");
-    let f = std::fs::File::create(&p).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+    let f = std::fs::File::create(&p).map_err(|e| Error::io(&p, e))?;
     CsvRecorder::new(probes, std::io::BufWriter::new(f))
+        .map_err(|e| Error::io(&p, std::io::Error::other(e)))
 }
 
 /// Writes `summary.json`, `profile.csv` and one SVG per history into the run's staging
@@ -165,16 +167,17 @@ pub fn write_run(
     outcome: &Outcome,
     summary: &Summary,
     sets: &[String],
-) -> Result<(), String> {
+) -> Result<()> {
     let records = &outcome.records;
     let put = |name: &str, text: &str| dir.put(name, text);
     put("profile.csv", &profile_csv(&outcome.profile))?;
     put(
         "summary.json",
-        &(serde_json::to_string_pretty(summary).map_err(|e| e.to_string())? + "\n"),
+        &(serde_json::to_string_pretty(summary).map_err(|e| Error::numerical(e.to_string()))?
+            + "\n"),
     )?;
     let t: Vec<f64> = records.iter().map(|r| r.t).collect();
-    let h0 = summary.case.controller.as_ref().map(|c| c.h0_m);
+    let h0 = (summary.h0 > 0.0).then_some(summary.h0);
     for (name, get) in COLUMNS.iter().skip(1) {
         let y: Vec<f64> = records.iter().map(get).collect();
         if y.iter().all(|v| !v.is_finite()) {
@@ -183,10 +186,7 @@ pub fn write_run(
         let title = format!("{} — {name}{}", summary.scenario, plot::overrides(sets));
         let p = history_plot(name, &summary.model, &t, &y, h0);
         let p = Plot { title, ..p };
-        put(
-            &format!("{name}.svg"),
-            &plot::svg(&p).map_err(|e| e.to_string())?,
-        )?;
+        put(&format!("{name}.svg"), &plot::svg(&p)?)?;
     }
     Ok(())
 }

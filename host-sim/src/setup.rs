@@ -1,18 +1,24 @@
-//! From a scenario to a ready-to-run passage: the one place `run`, `hil`, `validate` and the
-//! tests build the guideway, the load, the irregularity profiles and the run settings.
+//! From a case to a finished passage: the one place `run`, `hil`, `validate`, `sweep` and the
+//! tests build the guideway, the load, the irregularity profiles and the run settings, and the
+//! one [`simulate`] they all call.
 //!
 //! Why one place: `maglev run` and `maglev hil` must differ only in the magnets (that is what
-//! `hil --compare` measures), so everything else is built here, once, from the scenario.
+//! `hil --compare` measures), so everything else is built here, once, from the [`Case`].
 
+use crate::case::{Case, TrainCase};
 use crate::fe::FeGuideway;
-use crate::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
+use crate::guideway::{Guideway, PointLoad, PointMotion, SectionMotion};
+use crate::hil::coupling::{EventRecord, FirmwareMagnets};
+use crate::hil::link::Link;
+use crate::hil::HilSettings;
 use crate::modal::ModalGuideway;
-use crate::probes::{Extent, Probes, Recorder};
+use crate::probes::Recorder;
 use crate::profile::Profile;
-use crate::scenario::{Model, Scenario, VehicleSection};
-use crate::simulation::{Load, MovingLoad, Profiles, Settings};
-use crate::vehicle::Train;
+use crate::scenario::Model;
+use crate::simulation::{couple, initial_gaps, Load, Outcome, Profiles, Settings};
+use crate::{Error, Result};
 use maglev_core::irregularity::Direction;
+use std::time::Instant;
 
 /// A guideway that never moves: `z_g = y_g = θ = 0` everywhere (`run.model = "rigid"`). The
 /// vehicle and its magnets alone over the irregular rail, the first thing a control engineer
@@ -42,7 +48,7 @@ impl Guideway for RigidGuideway {
     fn commit(&mut self) {}
 }
 
-/// The scenario's guideway model, built (enum dispatch keeps the coupling loop monomorphic).
+/// The case's guideway model, built (enum dispatch keeps the coupling loop monomorphic).
 // One value per run: the size difference between the variants costs nothing.
 #[allow(clippy::large_enum_variant)]
 pub enum AnyGuideway {
@@ -52,21 +58,21 @@ pub enum AnyGuideway {
 }
 
 impl AnyGuideway {
-    /// Builds the guideway `model` of `bridge` with the scenario's discretisation.
-    pub fn new(model: Model, bridge: &Bridge, sc: &Scenario) -> Result<Self, String> {
-        let dt = sc.run.dt_s;
-        Ok(match model {
-            Model::Fe => AnyGuideway::Fe(
-                FeGuideway::new(bridge, sc.run.elements_per_span, dt).map_err(|e| e.to_string())?,
-            ),
+    /// Builds the case's guideway model with its discretisation.
+    pub fn new(case: &Case) -> Result<Self> {
+        let dt = case.dt;
+        Ok(match case.model {
+            Model::Fe => {
+                AnyGuideway::Fe(FeGuideway::new(&case.bridge, case.elements_per_span, dt)?)
+            }
             Model::Modal => AnyGuideway::Modal(
-                ModalGuideway::from_bridge(bridge, sc.run.modes, dt).map_err(|e| e.to_string())?,
+                ModalGuideway::from_bridge(&case.bridge, case.modes, dt)
+                    .map_err(|e| Error::numerical(e.to_string()))?,
             ),
             Model::Rigid => AnyGuideway::Rigid(RigidGuideway::new(dt)),
         })
     }
 }
-
 macro_rules! each {
     ($self:ident, $g:ident => $e:expr) => {
         match $self {
@@ -104,49 +110,28 @@ pub struct Passage {
 }
 
 impl Passage {
-    /// Builds the passage of scenario `sc`.
-    pub fn new(sc: &Scenario) -> Result<Self, String> {
-        let bridge = sc.bridge();
-        let dt = sc.run.dt_s;
-        let load = match &sc.vehicle {
-            VehicleSection::MovingForce {
-                force_kN,
-                offset_y_m,
-                offset_z_m,
-            } => Load::Forces(vec![MovingLoad {
-                x0: 0.0,
-                force: force_kN * 1e3,
-                ey: *offset_y_m,
-                ez: *offset_z_m,
-            }]),
-            VehicleSection::Forces { .. } => Load::Forces(sc.forces()?),
-            VehicleSection::Fig1 { .. } => Load::Vehicle(fig1_train(sc)?),
+    /// Builds the passage of `case`.
+    pub fn new(case: &Case) -> Result<Self> {
+        let load = match (&case.train, case.vehicle_train()?) {
+            (_, Some(train)) => Load::Vehicle(train),
+            (TrainCase::Forces(f), None) => Load::Forces(f.clone()),
+            (TrainCase::Fig1 { .. }, None) => unreachable!("a fig1 case builds a train"),
         };
-        let profiles = profiles_for(sc, &load)?;
+        let profiles = profiles_for(case, &load)?;
+        let midspans = case.midspans();
         let settings = Settings {
-            speed: sc.run.speed_m_per_s,
-            dt,
-            t_end: sc.t_end(),
-            controller: match &load {
-                Load::Vehicle(_) => sc.controller_params()?,
-                Load::Forces(_) => maglev_core::Params::paper_wheel(dt),
-            },
-            law: sc.law()?,
-            geometry: sc.geometry(),
-            tolerance: sc.run.tolerance_m,
-            max_iterations: sc.run.max_iterations,
-            midspan_x: bridge.spans[0] / 2.0,
-            midspans: bridge
-                .spans
-                .iter()
-                .scan(0.0, |x0, &l| {
-                    let mid = *x0 + l / 2.0;
-                    *x0 += l;
-                    Some(mid)
-                })
-                .collect(),
+            speed: case.speed,
+            dt: case.dt,
+            t_end: case.t_end,
+            controller: case.controller,
+            law: case.law,
+            geometry: case.geometry,
+            tolerance: case.tolerance,
+            max_iterations: case.max_iterations,
+            midspan_x: midspans[0],
+            midspans,
         };
-        let guideway = AnyGuideway::new(sc.model()?, &bridge, sc)?;
+        let guideway = AnyGuideway::new(case)?;
         Ok(Passage {
             guideway,
             load,
@@ -156,81 +141,95 @@ impl Passage {
     }
 }
 
-/// The scenario's train of `repeat` Fig. 1 cars `car_length_m` apart.
-fn fig1_train(sc: &Scenario) -> Result<Train, String> {
-    let (cars, length) = sc.fig1_cars()?;
-    Train::fig1_repeated(&sc.fig1()?, cars, length, maglev_core::levitation::GRAVITY)
-        .map_err(|e| e.to_string())
-}
-
-/// The Table 1 profiles of the scenario's irregularity section over every position a wheel
-/// passes (smooth for a moving force or with the irregularity disabled).
-fn profiles_for(sc: &Scenario, load: &Load) -> Result<Profiles, String> {
-    let enabled = sc.irregularity.as_ref().is_some_and(|i| i.enabled);
-    let Load::Vehicle(v) = load else {
+/// The Table 1 profiles of the case's irregularity over every position a wheel passes
+/// (smooth for forces or with the irregularity off).
+fn profiles_for(case: &Case, load: &Load) -> Result<Profiles> {
+    let (Load::Vehicle(v), Some(seed)) = (load, case.irregularity_seed) else {
         return Ok(Profiles::smooth());
     };
-    if !enabled {
-        return Ok(Profiles::smooth());
-    }
-    let seed = sc.irregularity.as_ref().map_or(0, |i| i.seed);
     let x0s = v.wheels.iter().map(|w| w.x0);
     let x_min = x0s.clone().fold(f64::INFINITY, f64::min) - 1.0;
-    let x_max = x0s.fold(f64::NEG_INFINITY, f64::max) + sc.run.speed_m_per_s * sc.t_end() + 1.0;
-    let y = Profile::table1(Direction::Y, seed, x_min, x_max)?;
-    let z = Profile::table1(Direction::Z, seed, x_min, x_max)?;
+    let x_max = x0s.fold(f64::NEG_INFINITY, f64::max) + case.speed * case.t_end + 1.0;
+    let table = |d| {
+        Profile::table1(d, seed, x_min, x_max)
+            .map_err(|e| Error::invalid("irregularity", e.to_string()))
+    };
+    let y = table(Direction::Y)?;
+    let z = table(Direction::Z)?;
     Ok(Profiles {
         y: Box::new(move |x| y.at(x)),
         z: Box::new(move |x| z.at(x)),
     })
 }
 
-/// Runs scenario `sc` with the core's controllers; `progress` gets the fraction done. Returns
-/// the outcome and the wall seconds of the time loop.
-pub fn run_scenario(
-    sc: &Scenario,
-    rec: &mut dyn Recorder,
-    progress: impl FnMut(f64),
-) -> Result<(crate::simulation::Outcome, f64), String> {
-    let mut p = Passage::new(sc)?;
-    let start = std::time::Instant::now();
-    let outcome = crate::simulation::simulate(
-        &mut p.guideway,
-        &p.load,
-        &p.profiles,
-        &p.settings,
-        rec,
-        progress,
-    )
-    .map_err(|e| e.to_string())?;
-    Ok((outcome, start.elapsed().as_secs_f64()))
+/// Which controllers the magnets run.
+pub enum Controllers<'a> {
+    /// The core's controllers in f64 with exact gaps (`maglev run`).
+    Core,
+    /// The levitation firmware behind `link`, with sampled, quantised gaps (`maglev hil`).
+    Firmware {
+        settings: &'a HilSettings,
+        link: &'a mut dyn Link,
+    },
 }
 
-/// The scenario's probes (`[output] probes`, else the default columns), checked against it.
-pub fn probes(sc: &Scenario) -> Result<Probes, String> {
-    let spans = sc.bridge.spans_m.len();
-    let extent = match &sc.vehicle {
-        VehicleSection::Fig1 { .. } => {
-            let v = fig1_train(sc)?;
-            Extent {
-                spans,
-                wheels: v.wheels.len(),
-                cars: v.cars.len(),
-                magnets: true,
-            }
+/// A finished passage.
+pub struct Run {
+    pub outcome: Outcome,
+    /// The firmware's events (empty for the core's controllers).
+    pub events: Vec<EventRecord>,
+    /// Wall seconds of the time loop.
+    pub wall: f64,
+}
+
+/// Runs `case` with `controllers`, streaming every step to `rec`; `progress` gets the
+/// fraction done now and then.
+pub fn simulate(
+    case: &Case,
+    controllers: Controllers,
+    rec: &mut dyn Recorder,
+    progress: impl FnMut(f64),
+) -> Result<Run> {
+    let mut p = Passage::new(case)?;
+    let start = Instant::now();
+    let (outcome, events) = match controllers {
+        Controllers::Core => (
+            crate::simulation::simulate(
+                &mut p.guideway,
+                &p.load,
+                &p.profiles,
+                &p.settings,
+                rec,
+                progress,
+            )?,
+            Vec::new(),
+        ),
+        Controllers::Firmware { settings, link } => {
+            let Load::Vehicle(v) = &p.load else {
+                return Err(Error::invalid(
+                    "vehicle.kind",
+                    "hil needs a vehicle with magnets (\"fig1\"), not a train of forces",
+                ));
+            };
+            let s = &p.settings;
+            let gaps0 = initial_gaps(v, &p.profiles, s.controller.h0);
+            let mut magnets =
+                FirmwareMagnets::new(v, &gaps0, s, settings, link).map_err(Error::Firmware)?;
+            let run = couple(
+                &mut p.guideway,
+                v,
+                &p.profiles,
+                s,
+                &mut magnets,
+                rec,
+                progress,
+            )?;
+            (run, magnets.events)
         }
-        VehicleSection::Forces { .. } => Extent {
-            spans,
-            wheels: sc.forces()?.len(),
-            cars: 0,
-            magnets: false,
-        },
-        VehicleSection::MovingForce { .. } => Extent {
-            spans,
-            wheels: 1,
-            cars: 0,
-            magnets: false,
-        },
     };
-    Probes::new(sc.output.as_ref().map(|o| o.probes.as_slice()), &extent)
+    Ok(Run {
+        outcome,
+        events,
+        wall: start.elapsed().as_secs_f64(),
+    })
 }

@@ -10,8 +10,7 @@ use maglev_host_sim::fe::{FeGuideway, Rayleigh, SpanModel};
 use maglev_host_sim::guideway::{
     BeamSection, Bridge, Guideway, PointLoad, PointMotion, SectionMotion,
 };
-use maglev_host_sim::simulation::{simulate, Load, Outcome, Profiles, Settings};
-use maglev_host_sim::vehicle::VehicleModel;
+use maglev_host_sim::simulation::{simulate, Load, Outcome, Profiles};
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 
 /// Dense reference: every span is a dense system, stepped in full at every `solve_step`.
@@ -233,21 +232,11 @@ fn train_over_three_damped_spans_matches_dense_reference() {
 }
 
 fn passage(g: &mut impl Guideway) -> Outcome {
-    let sc = maglev_host_sim::scenario::load("paper-4.2", &["scheme=accurate".into()]).unwrap();
-    let v = VehicleModel::fig1(&sc.fig1().unwrap(), maglev_core::levitation::GRAVITY).unwrap();
-    let dt = sc.run.dt_s;
-    let settings = Settings {
-        speed: sc.run.speed_m_per_s,
-        dt,
-        t_end: sc.t_end(),
-        controller: sc.controller_params().unwrap(),
-        law: sc.law().unwrap(),
-        tolerance: sc.run.tolerance_m,
-        max_iterations: sc.run.max_iterations,
-        midspan_x: 12.5,
-        midspans: vec![12.5],
-        geometry: sc.geometry(),
-    };
+    let case = maglev_host_sim::case::Case::load("paper-4.2", &["scheme=accurate".into()]).unwrap();
+    let settings = maglev_host_sim::setup::Passage::new(&case)
+        .unwrap()
+        .settings;
+    let v = case.vehicle_train().unwrap().unwrap();
     // A rail with a smooth but non-trivial irregularity so the Newton–Raphson loop works.
     let profiles = Profiles {
         y: Box::new(|x: f64| 1e-3 * (0.7 * x).sin()),
@@ -255,7 +244,7 @@ fn passage(g: &mut impl Guideway) -> Outcome {
     };
     simulate(
         g,
-        &Load::Vehicle(v.into()),
+        &Load::Vehicle(v),
         &profiles,
         &settings,
         &mut maglev_host_sim::probes::NoRecorder,

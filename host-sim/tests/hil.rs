@@ -5,17 +5,23 @@
 
 use maglev_firmware_sim::protocol::Request;
 use maglev_firmware_sim::supervision::Event;
+use maglev_host_sim::case::Case;
 use maglev_host_sim::hil::board::SensorFault;
-use maglev_host_sim::hil::coupling::HilOutcome;
 use maglev_host_sim::hil::link::{serve, InProc, Link, LinkFaults, StreamLink};
-use maglev_host_sim::hil::{execute_hil, HilSettings};
+use maglev_host_sim::hil::HilSettings;
 use maglev_host_sim::probes::NoRecorder;
-use maglev_host_sim::scenario;
+use maglev_host_sim::setup::{simulate, Controllers, Run as HilOutcome};
 use std::os::unix::net::UnixStream;
 use std::time::Duration;
 
-fn scenario(t_end: &str) -> scenario::Scenario {
-    scenario::load("paper-4.2", &[format!("t_end={t_end}")]).unwrap()
+fn scenario(t_end: &str) -> Case {
+    Case::load("paper-4.2", &[format!("t_end={t_end}")]).unwrap()
+}
+
+/// A HIL passage of `case` with the firmware behind `link`.
+fn execute_hil(case: &Case, hs: &HilSettings, link: &mut dyn Link) -> HilOutcome {
+    let firmware = Controllers::Firmware { settings: hs, link };
+    simulate(case, firmware, &mut NoRecorder, |_| {}).unwrap()
 }
 
 /// A firmware on a thread behind a Unix socket pair: the same bytes as the host process.
@@ -30,23 +36,21 @@ fn socket_link(faults: LinkFaults, timeout_ms: u64) -> StreamLink {
 }
 
 fn run(link: &mut dyn Link, hs: &HilSettings, t_end: &str) -> HilOutcome {
-    execute_hil(&scenario(t_end), hs, link, &mut NoRecorder, |_| {})
-        .unwrap()
-        .0
+    execute_hil(&scenario(t_end), hs, link)
 }
 
 /// The gap loop on EMS magnets (docs/gap-loop.md), the geometry it exists for.
-fn gap_loop_scenario(t_end: &str) -> scenario::Scenario {
+fn gap_loop_scenario(t_end: &str) -> Case {
     let sets = [
         format!("t_end={t_end}"),
         "law=gap-loop".to_string(),
         "geometry=ems".to_string(),
     ];
-    scenario::load("paper-4.2", &sets).unwrap()
+    Case::load("paper-4.2", &sets).unwrap()
 }
 
 fn bits(o: &HilOutcome) -> Vec<[u64; 4]> {
-    o.run
+    o.outcome
         .records
         .iter()
         .map(|r| {
@@ -94,19 +98,15 @@ fn gap_loop_firmware_holds_the_gap_bit_identically_over_the_stream_link() {
         scalar: maglev_firmware_sim::protocol::ScalarKind::F32,
         ..HilSettings::default()
     };
-    let a = execute_hil(&sc, &hs, &mut InProc::default(), &mut NoRecorder, |_| {})
-        .unwrap()
-        .0;
+    let a = execute_hil(&sc, &hs, &mut InProc::default());
     let mut link = socket_link(LinkFaults::default(), 2000);
-    let b = execute_hil(&sc, &hs, &mut link, &mut NoRecorder, |_| {})
-        .unwrap()
-        .0;
+    let b = execute_hil(&sc, &hs, &mut link);
     assert_eq!(bits(&a), bits(&b));
     assert_eq!(a.events, b.events);
     // Past the time the paper law on EMS magnets collides (t = 0.075 s) without any event, the
     // gap within 3 mm of h0.
     assert!(a.events.is_empty(), "{:?}", a.events.first());
-    let gaps = a.run.records.iter().map(|r| r.wheel1_gap_z);
+    let gaps = a.outcome.records.iter().map(|r| r.wheel1_gap_z);
     let (lo, hi) = gaps.fold((f64::MAX, f64::MIN), |(l, h), g| (l.min(g), h.max(g)));
     assert!(lo > 0.009 && hi < 0.0135, "{lo} … {hi}");
     // The paper's law on the same passage (paper geometry) differs.
@@ -116,11 +116,10 @@ fn gap_loop_firmware_holds_the_gap_bit_identically_over_the_stream_link() {
     );
     // Against the ideal core run of the same law: close (the ideal samples the outer loop once
     // per 1 ms host step, the firmware once per 100 µs tick; docs/hil.md).
-    let ideal =
-        maglev_host_sim::setup::run_scenario(&sc, &mut maglev_host_sim::probes::NoRecorder, |_| {})
-            .unwrap()
-            .0;
-    let c = maglev_host_sim::hil::compare::compare(&a.run.records, &ideal.records).unwrap();
+    let ideal = simulate(&sc, Controllers::Core, &mut NoRecorder, |_| {})
+        .unwrap()
+        .outcome;
+    let c = maglev_host_sim::hil::compare::compare(&a.outcome.records, &ideal.records).unwrap();
     assert!(c.wheel1_gap_z.relative < 0.03, "{c:?}");
     assert!(c.midspan_z.relative < 0.01, "{c:?}");
     assert!(
@@ -144,10 +143,10 @@ fn f32_firmware_and_delay_run_and_differ_from_the_default() {
         let o = run(&mut InProc::default(), &hs, "0.03");
         assert_ne!(bits(&o), bits(&base));
         let d = o
-            .run
+            .outcome
             .records
             .iter()
-            .zip(&base.run.records)
+            .zip(&base.outcome.records)
             .map(|(a, b)| (a.wheel1_gap_z - b.wheel1_gap_z).abs())
             .fold(0.0, f64::max);
         assert!(d < 1e-6, "{d}");
@@ -202,7 +201,7 @@ fn sensor_faults_raise_events_at_the_documented_times() {
     // below the clean run's. (The undriven coil decays with τ = G0/(R0·h) ≈ 0.4 s, so 18 ms
     // take the force down by about 9 %.)
     let forces = |o: &HilOutcome| -> Vec<f64> {
-        o.run
+        o.outcome
             .records
             .iter()
             .filter(|r| r.t > 0.023)

@@ -1,8 +1,8 @@
 //! Trains of Fig. 1 cars (docs/model.md §10): block-diagonal cars, each in its own static
 //! equilibrium, coupled only through the guideway and the rail.
 
+use maglev_host_sim::case::{Case, TrainCase};
 use maglev_host_sim::probes::{BodyQ, Probe, Recorder, StepView, WheelQ};
-use maglev_host_sim::scenario;
 use maglev_host_sim::setup::Passage;
 use maglev_host_sim::simulation::{simulate, Load, Profiles};
 use maglev_host_sim::vehicle::{CarKind, CarSpec, Fig1, Train};
@@ -70,8 +70,8 @@ fn rail_from_zero() -> Profiles {
 
 fn run(sets: &[&str], profiles: Option<Profiles>, probes: Vec<Probe>) -> Vec<Vec<f64>> {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let sc = scenario::load("paper-4.2", &sets).unwrap();
-    let mut pa = Passage::new(&sc).unwrap();
+    let case = Case::load("paper-4.2", &sets).unwrap();
+    let mut pa = Passage::new(&case).unwrap();
     if let Some(p) = profiles {
         pa.profiles = p;
     }
@@ -169,8 +169,10 @@ fn a_three_car_train_starts_in_static_equilibrium_on_an_fe_viaduct() {
     .iter()
     .map(|s| s.to_string())
     .collect();
-    let sc = scenario::load("paper-4.2", &sets).unwrap();
-    let fig = sc.fig1().unwrap();
+    let sc = Case::load("paper-4.2", &sets).unwrap();
+    let TrainCase::Fig1 { car: fig, .. } = &sc.train else {
+        panic!("paper-4.2 runs Fig. 1 cars")
+    };
     let specs: Vec<CarSpec> = [0.0, 1.5, -1.0]
         .iter()
         .enumerate()
@@ -213,7 +215,7 @@ fn a_three_car_train_starts_in_static_equilibrium_on_an_fe_viaduct() {
     let rows = run_train(train, probes.clone());
     let per_car = probes.len() / 3;
     // t = 0: every wheel at h0, every force its own car's p0.
-    let h0 = sc.controller_params().unwrap().h0;
+    let h0 = sc.h0();
     for c in 0..3 {
         for w in 0..4 {
             let base = c * per_car + 1 + 5 * w;

@@ -1,14 +1,21 @@
 //! FE against the modal Timoshenko reference through the whole host pipeline (scenario →
 //! simulation → records): a moving constant force and a short coupled maglev run.
 
-use maglev_host_sim::scenario;
-use maglev_host_sim::setup::run_scenario;
+use maglev_host_sim::case::Case;
+use maglev_host_sim::setup::{simulate, Controllers};
 use maglev_host_sim::simulation::Record;
 
 fn run(name: &str, sets: &[&str]) -> Vec<Record> {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let sc = scenario::load(name, &sets).unwrap();
-    let (o, _) = run_scenario(&sc, &mut maglev_host_sim::probes::NoRecorder, |_| {}).unwrap();
+    let case = Case::load(name, &sets).unwrap();
+    let o = simulate(
+        &case,
+        Controllers::Core,
+        &mut maglev_host_sim::probes::NoRecorder,
+        |_| {},
+    )
+    .unwrap()
+    .outcome;
     assert_eq!(o.unconverged_steps, 0);
     o.records
 }

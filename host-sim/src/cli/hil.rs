@@ -1,14 +1,13 @@
 //! `maglev hil SCENARIO --firmware inproc|process|qemu [--set key=value]... [--out DIR]
 //! [--compare]`: a passage with the levitation firmware as the controller.
 
+use crate::case::Case;
 use crate::cli::progress::Progress;
 use crate::hil::compare::{compare, Comparison};
-use crate::hil::coupling::HilOutcome;
 use crate::hil::link::{InProc, Link, LinkFaults, LinkStats, StreamLink};
-use crate::hil::{execute_hil, HilSettings, HIL_KEYS};
+use crate::hil::{HilSettings, HIL_KEYS};
 use crate::output::{response_recorder, write_run, Staging, Summary};
-use crate::scenario;
-use crate::setup::run_scenario;
+use crate::setup::{simulate, Controllers, Run};
 use maglev_firmware_sim::supervision::Event;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -234,7 +233,7 @@ pub fn open_link(args: &Args, faults: LinkFaults) -> Result<Box<dyn Link>, Strin
     Ok(Box::new(link))
 }
 
-fn event_counts(out: &HilOutcome) -> (BTreeMap<String, usize>, Option<f64>) {
+fn event_counts(out: &Run) -> (BTreeMap<String, usize>, Option<f64>) {
     let mut m = BTreeMap::new();
     let mut first = None;
     for e in &out.events {
@@ -250,7 +249,7 @@ fn event_counts(out: &HilOutcome) -> (BTreeMap<String, usize>, Option<f64>) {
     (m, first)
 }
 
-fn events_csv(out: &HilOutcome) -> String {
+fn events_csv(out: &Run) -> String {
     let mut s = String::from("t,mode,events\n");
     for e in &out.events {
         let names: Vec<&str> = Event::NAMES
@@ -263,7 +262,11 @@ fn events_csv(out: &HilOutcome) -> String {
     s
 }
 
-pub fn run(args: Args) -> Result<(), String> {
+pub fn run(args: Args) -> anyhow::Result<()> {
+    run_inner(args).map_err(anyhow::Error::msg)
+}
+
+fn run_inner(args: Args) -> Result<(), String> {
     let mut hs = HilSettings::default();
     let mut faults = LinkFaults::default();
     let mut scenario_sets = Vec::new();
@@ -279,13 +282,18 @@ pub fn run(args: Args) -> Result<(), String> {
             scenario_sets.push(s.clone());
         }
     }
-    let sc = scenario::load(&args.scenario, &scenario_sets)?;
-    let probes = crate::setup::probes(&sc)?;
-    let out = Staging::new(&args.out)?;
-    let mut rec = response_recorder(&out, probes)?;
+    let s = |e: crate::Error| e.to_string();
+    let case = Case::load(&args.scenario, &scenario_sets).map_err(s)?;
+    let out = Staging::new(&args.out).map_err(s)?;
+    let mut rec = response_recorder(&out, case.probes.clone()).map_err(s)?;
     let mut link = open_link(&args, faults)?;
     let mut bar = Progress::run("hil");
-    let (outcome, wall) = execute_hil(&sc, &hs, link.as_mut(), &mut rec, |f| bar.fraction(f))?;
+    let firmware = Controllers::Firmware {
+        settings: &hs,
+        link: link.as_mut(),
+    };
+    let outcome = simulate(&case, firmware, &mut rec, |f| bar.fraction(f)).map_err(s)?;
+    let wall = outcome.wall;
     drop(bar);
     rec.finish()?;
     let stats = link.stats();
@@ -293,13 +301,25 @@ pub fn run(args: Args) -> Result<(), String> {
     let (events, first_fault_s) = event_counts(&outcome);
     let (cmp, cmp_before) = if args.compare {
         let mut bar = Progress::run("hil: ideal run");
-        let (ideal, _) = run_scenario(&sc, &mut crate::probes::NoRecorder, |f| bar.fraction(f))?;
+        let ideal = simulate(
+            &case,
+            Controllers::Core,
+            &mut crate::probes::NoRecorder,
+            |f| bar.fraction(f),
+        )
+        .map_err(s)?
+        .outcome;
         drop(bar);
-        let all = compare(&outcome.run.records, &ideal.records)?;
+        let all = compare(&outcome.outcome.records, &ideal.records)?;
         let before = match first_fault_s {
             Some(tf) => {
-                let k = outcome.run.records.iter().take_while(|r| r.t < tf).count();
-                Some(compare(&outcome.run.records[..k], &ideal.records[..k])?)
+                let k = outcome
+                    .outcome
+                    .records
+                    .iter()
+                    .take_while(|r| r.t < tf)
+                    .count();
+                Some(compare(&outcome.outcome.records[..k], &ideal.records[..k])?)
             }
             None => None,
         };
@@ -307,14 +327,14 @@ pub fn run(args: Args) -> Result<(), String> {
     } else {
         (None, None)
     };
-    let run = Summary::new(&args.scenario, &sc, &outcome.run, wall);
+    let run = Summary::new(&args.scenario, &case, &outcome.outcome, wall);
     let summary = HilSummary {
         firmware: format!("{:?}", args.firmware).to_lowercase(),
         qemu_link: (args.firmware == FirmwareMode::Qemu)
             .then(|| format!("{:?}", args.qemu_link).to_lowercase()),
         scalar: format!("{:?}", hs.scalar).to_lowercase(),
         rate_hz: hs.rate_hz,
-        ticks_per_step: (sc.run.dt_s * hs.rate_hz as f64).round() as u32,
+        ticks_per_step: (case.dt * hs.rate_hz as f64).round() as u32,
         delay: hs.delay,
         exchanges_per_second: stats.exchanges as f64 / stats.seconds.max(1e-12),
         exchanges_per_wall_second: stats.exchanges as f64 / wall.max(1e-12),
@@ -325,15 +345,15 @@ pub fn run(args: Args) -> Result<(), String> {
         compare_before_fault: cmp_before,
         run,
     };
-    write_run(&out, &outcome.run, &summary.run, &args.sets)?;
-    let put = |name: &str, text: String| out.put(name, &text);
+    write_run(&out, &outcome.outcome, &summary.run, &args.sets).map_err(s)?;
+    let put = |name: &str, text: String| out.put(name, &text).map_err(s);
     put(
         "summary.json",
         serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())? + "\n",
     )?;
     put("events.csv", events_csv(&outcome))?;
-    out.finish()?;
-    crate::cli::run::warn(&outcome.run);
+    out.finish().map_err(s)?;
+    crate::cli::run::warn(&outcome.outcome);
     eprintln!(
         "maglev: hil ({}) {} steps, {:.3} s simulated in {:.2} s wall; {} exchanges, {:.0}/s in the link \
          ({} retries); wrote {}",

@@ -1,10 +1,10 @@
 //! `maglev run SCENARIO [--set key=value]... [--out DIR] [--strict]`: one passage over an FE,
 //! modal or rigid guideway.
 
+use crate::case::Case;
 use crate::cli::progress::Progress;
 use crate::output::{gap_ranges, response_recorder, write_run, Staging, Summary};
-use crate::scenario;
-use crate::setup::run_scenario;
+use crate::setup::{simulate, Controllers};
 use crate::simulation::Outcome;
 use std::path::PathBuf;
 
@@ -67,17 +67,17 @@ pub fn warn(outcome: &Outcome) {
 
 /// Runs the command. `Ok(false)`: `--strict` and the run collided or left its gap bounds
 /// (the outputs are written; the caller exits 3).
-pub fn run(args: Args) -> Result<bool, String> {
-    let sc = scenario::load(&args.scenario, &args.sets)?;
-    let probes = crate::setup::probes(&sc)?;
+pub fn run(args: Args) -> anyhow::Result<bool> {
+    let case = Case::load(&args.scenario, &args.sets)?;
     let out = Staging::new(&args.out)?;
-    let mut rec = response_recorder(&out, probes)?;
+    let mut rec = response_recorder(&out, case.probes.clone())?;
     let mut bar = Progress::run("run");
-    let (outcome, wall) = run_scenario(&sc, &mut rec, |f| bar.fraction(f))?;
+    let run = simulate(&case, Controllers::Core, &mut rec, |f| bar.fraction(f))?;
     drop(bar);
-    rec.finish()?;
+    rec.finish().map_err(anyhow::Error::msg)?;
+    let (outcome, wall) = (run.outcome, run.wall);
     warn(&outcome);
-    let summary = Summary::new(&args.scenario, &sc, &outcome, wall);
+    let summary = Summary::new(&args.scenario, &case, &outcome, wall);
     write_run(&out, &outcome, &summary, &args.sets)?;
     out.finish()?;
     eprintln!(
@@ -88,8 +88,7 @@ pub fn run(args: Args) -> Result<bool, String> {
         args.out.display()
     );
     if args.strict {
-        let h0 = sc.controller.as_ref().map_or(0.0, |c| c.h0_m);
-        if let Some(v) = strict_violation(&outcome, h0) {
+        if let Some(v) = strict_violation(&outcome, case.h0()) {
             eprintln!("maglev: strict: {v}");
             return Ok(false);
         }

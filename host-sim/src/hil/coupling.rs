@@ -12,7 +12,7 @@
 use super::board::{force, Sensors};
 use super::link::Link;
 use super::HilSettings;
-use crate::simulation::{magnet_gaps, Law, Magnets, Outcome, Settings, WheelGaps};
+use crate::simulation::{magnet_gaps, Law, Magnets, Settings, WheelGaps};
 use crate::vehicle::Train;
 use maglev_core::gap::Geometry;
 use maglev_core::Status;
@@ -27,13 +27,6 @@ pub struct EventRecord {
     pub t: f64,
     pub events: Event,
     pub mode: u8,
-}
-
-/// Result of a HIL run.
-pub struct HilOutcome {
-    /// What every passage reports (records, collisions, gap ranges, profile).
-    pub run: Outcome,
-    pub events: Vec<EventRecord>,
 }
 
 fn expect_reply(r: Response, step: u32) -> Result<Reply, String> {

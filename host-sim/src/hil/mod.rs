@@ -7,6 +7,8 @@
 //!   ([`crate::simulation::couple`]): `Step` per Newton iteration, `Commit` per step.
 //! * [`compare`]: the difference to the ideal in-process core run.
 //!
+//! A HIL passage is [`crate::setup::simulate`] with `Controllers::Firmware`.
+//!
 //! See `docs/hil.md` for the timing model, the protocol and the fault reactions.
 
 pub mod board;
@@ -14,18 +16,10 @@ pub mod compare;
 pub mod coupling;
 pub mod link;
 
-use crate::probes::Recorder;
-use crate::scenario::{Scenario, VehicleSection};
-use crate::setup::Passage;
-use crate::simulation::Load;
-use crate::simulation::{couple, initial_gaps};
 use board::SensorFault;
-use coupling::{FirmwareMagnets, HilOutcome};
-use link::Link;
 use maglev_firmware_sim::adc::AdcModel;
 use maglev_firmware_sim::protocol::{ConfigKey, ScalarKind};
 use maglev_firmware_sim::validate;
-use std::time::Instant;
 
 /// Firmware, converter and supervision settings of a HIL run (SI).
 #[derive(Clone, Debug, PartialEq)]
@@ -168,40 +162,4 @@ impl HilSettings {
         };
         (!ok).then_some(limit)
     }
-}
-
-/// Runs scenario `sc` with the firmware behind `link`; returns the outcome and wall seconds.
-pub fn execute_hil(
-    sc: &Scenario,
-    hs: &HilSettings,
-    link: &mut dyn Link,
-    rec: &mut dyn Recorder,
-    progress: impl FnMut(f64),
-) -> Result<(HilOutcome, f64), String> {
-    let VehicleSection::Fig1 { .. } = &sc.vehicle else {
-        return Err("hil needs a vehicle with magnets (vehicle.kind = \"fig1\")".into());
-    };
-    let mut p = Passage::new(sc)?;
-    let Load::Vehicle(v) = &p.load else {
-        unreachable!("a fig1 scenario builds a vehicle")
-    };
-    let s = &p.settings;
-    let start = Instant::now();
-    let gaps0 = initial_gaps(v, &p.profiles, s.controller.h0);
-    let mut magnets = FirmwareMagnets::new(v, &gaps0, s, hs, link)?;
-    let run = couple(
-        &mut p.guideway,
-        v,
-        &p.profiles,
-        s,
-        &mut magnets,
-        rec,
-        progress,
-    )
-    .map_err(|e| e.to_string())?;
-    let out = HilOutcome {
-        run,
-        events: magnets.events,
-    };
-    Ok((out, start.elapsed().as_secs_f64()))
 }

@@ -5,6 +5,7 @@
 //! old run's files with a new run's. A directory that exists and is not a maglev output (it
 //! lacks the [`MARKER`] file and is not empty) is refused rather than overwritten.
 
+use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// The file that marks a directory as a maglev run's output.
@@ -18,34 +19,38 @@ pub struct Staging {
 
 impl Staging {
     /// Checks that `target` may be replaced and creates the staging directory beside it.
-    pub fn new(target: &Path) -> Result<Self, String> {
+    pub fn new(target: &Path) -> Result<Self> {
         if target.exists() {
             let is_ours = target.join(MARKER).is_file();
             let empty = std::fs::read_dir(target)
-                .map_err(|e| format!("cannot read {}: {e}", target.display()))?
+                .map_err(|e| Error::io(target, e))?
                 .next()
                 .is_none();
             if !is_ours && !empty {
-                return Err(format!(
-                    "--out {}: the directory exists and is not a maglev output (no {MARKER} file); refusing to overwrite it",
-                    target.display()
+                return Err(Error::invalid(
+                    format!("--out {}", target.display()),
+                    format!("the directory exists and is not a maglev output (no {MARKER} file); refusing to overwrite it"),
                 ));
             }
         }
         let name = target
             .file_name()
-            .ok_or_else(|| format!("--out {}: not a directory name", target.display()))?
+            .ok_or_else(|| {
+                Error::invalid(
+                    format!("--out {}", target.display()),
+                    "not a directory name",
+                )
+            })?
             .to_string_lossy()
             .into_owned();
         let parent = match target.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        std::fs::create_dir_all(&parent)
-            .map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
+        std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
         let tmp = parent.join(format!(".{name}.partial-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&tmp);
-        std::fs::create_dir(&tmp).map_err(|e| format!("cannot create {}: {e}", tmp.display()))?;
+        std::fs::create_dir(&tmp).map_err(|e| Error::io(&tmp, e))?;
         Ok(Staging {
             target: target.to_path_buf(),
             tmp,
@@ -58,24 +63,22 @@ impl Staging {
     }
 
     /// Writes (or replaces) one file of the run.
-    pub fn put(&self, name: &str, text: &str) -> Result<(), String> {
+    pub fn put(&self, name: &str, text: &str) -> Result<()> {
         let p = self.tmp.join(name);
-        std::fs::write(&p, text).map_err(|e| format!("cannot write {}: {e}", p.display()))
+        std::fs::write(&p, text).map_err(|e| Error::io(p, e))
     }
 
     /// Moves the complete run into place, replacing the previous maglev output there.
-    pub fn finish(self) -> Result<(), String> {
+    pub fn finish(self) -> Result<()> {
         self.put(
             MARKER,
             "maglev run output; the whole directory is replaced by the next run\n",
         )?;
         let old = self.tmp.with_extension("old");
         if self.target.exists() {
-            std::fs::rename(&self.target, &old)
-                .map_err(|e| format!("cannot replace {}: {e}", self.target.display()))?;
+            std::fs::rename(&self.target, &old).map_err(|e| Error::io(&self.target, e))?;
         }
-        std::fs::rename(&self.tmp, &self.target)
-            .map_err(|e| format!("cannot move the run into {}: {e}", self.target.display()))?;
+        std::fs::rename(&self.tmp, &self.target).map_err(|e| Error::io(&self.target, e))?;
         let _ = std::fs::remove_dir_all(&old);
         Ok(())
     }
@@ -135,7 +138,7 @@ mod tests {
     fn a_foreign_directory_is_refused() {
         let root = scratch("foreign");
         std::fs::write(root.join("thesis.tex"), "precious").unwrap();
-        let e = Staging::new(&root).err().unwrap();
+        let e = Staging::new(&root).err().unwrap().to_string();
         assert!(e.contains("not a maglev output"), "{e}");
         assert!(root.join("thesis.tex").exists());
         // An empty directory is fine.

@@ -26,6 +26,7 @@ pub mod gloop;
 pub mod magnet;
 pub mod numerics;
 pub mod plant;
+pub mod report;
 pub mod schemes;
 pub mod vehicle;
 

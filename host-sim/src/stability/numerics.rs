@@ -5,9 +5,9 @@
 //! is a consistent one-step method for Eq. 9 + 10 (see [`super::gloop`]); this study measures
 //! its error against a converged solution on the canned traces, the observed order, and where
 //! fixed point stops carrying the sub-step increments. Everything runs through the core via
-//! `cli::control::run_trace_as` (the same path as `maglev control`).
+//! `control::run_trace_as` (the same path as `maglev control`).
 
-use crate::cli::control::{run_trace_as, Row, ScalarKind, Trace};
+use crate::control::{run_trace_as, Row, ScalarKind, Trace};
 use maglev_core::{Interpolation, ParamError, Params};
 use std::fmt::Write as _;
 

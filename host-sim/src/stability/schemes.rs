@@ -7,7 +7,7 @@
 //! shown as the spread against the extrapolant from (500, 1000).
 
 use super::numerics::{max_force_error, traces};
-use crate::cli::control::{run_trace_as, Row, ScalarKind, Trace};
+use crate::control::{run_trace_as, Row, ScalarKind, Trace};
 use maglev_core::{Params, Scheme};
 use std::fmt::Write as _;
 use std::time::Instant;

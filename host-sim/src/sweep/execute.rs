@@ -56,28 +56,26 @@ fn probe_set(spec: &Spec) -> String {
     format!("output.probes=[{}]", list.join(","))
 }
 
-/// Loads the scenario of a run (or the spec's base, with `run = None`) with its probes.
-fn case(spec: &Spec, run: Option<&Run>) -> Result<(crate::scenario::Scenario, Reducer)> {
+/// Resolves the case of a run (or the spec's base, with `run = None`) with its probes.
+fn case(spec: &Spec, run: Option<&Run>) -> Result<(crate::case::Case, Reducer)> {
     let mut sets = match run {
         Some(r) => r.sets(spec),
         None => spec.sets.clone(),
     };
     sets.push(probe_set(spec));
-    let sc = crate::scenario::load(&spec.scenario, &sets)
-        .map_err(|e| Error::invalid("scenario", e.to_string()))?;
-    let probes = crate::setup::probes(&sc)
-        .map_err(|e| Error::invalid("reduce.quantities", e.to_string()))?;
-    let reducer = Reducer::new(&spec.quantities, &probes)?;
-    Ok((sc, reducer))
+    let case = crate::case::Case::load(&spec.scenario, &sets)?;
+    let reducer = Reducer::new(&spec.quantities, &case.probes)?;
+    Ok((case, reducer))
 }
 
 /// Runs one run to its record; never fails (a failure is the record's).
 pub fn run_one(spec: &Spec, run: &Run) -> Record {
     let start = Instant::now();
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| -> Result<_> {
-        let (sc, mut reducer) = case(spec, Some(run))?;
-        let (outcome, _) = crate::setup::run_scenario(&sc, &mut reducer, |_| {})
-            .map_err(|e| Error::numerical(e.to_string()))?;
+        let (case, mut reducer) = case(spec, Some(run))?;
+        let outcome =
+            crate::setup::simulate(&case, crate::setup::Controllers::Core, &mut reducer, |_| {})?
+                .outcome;
         let values = reducer.finish()?;
         Ok((
             outcome.records.len().saturating_sub(1),

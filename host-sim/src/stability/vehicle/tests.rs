@@ -3,7 +3,6 @@
 //! simulation (`setup::Passage` + `simulation::simulate`, rigid rail).
 
 use super::*;
-use crate::scenario;
 use crate::setup::Passage;
 use crate::simulation::{simulate, Profiles};
 use crate::stability::gap_loop::GapLoopPlant;
@@ -146,8 +145,8 @@ fn disturbed(sets: &[&str], t_end: f64, step_m: f64) -> Vec<(f64, f64)> {
     all.push("nsub=5".into());
     all.push(format!("t_end={t_end}"));
     all.extend(sets.iter().map(|s| s.to_string()));
-    let sc = scenario::load("paper-4.2", &all).unwrap();
-    let mut pa = Passage::new(&sc).unwrap();
+    let case = crate::case::Case::load("paper-4.2", &all).unwrap();
+    let mut pa = Passage::new(&case).unwrap();
     let step = move |x: f64| if x > 0.5 { step_m } else { 0.0 };
     pa.profiles = Profiles {
         y: Box::new(step),
@@ -189,7 +188,7 @@ fn rate(r: &[(f64, f64)], t0: f64, t1: f64, win: f64) -> f64 {
 /// the envelope of an oscillating dominant pair needs windows of at least one period.
 fn predicted(sets: &[&str]) -> (f64, f64) {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let r = crate::cli::stability::scenario_report("paper-4.2", &sets).unwrap();
+    let r = crate::stability::report::scenario_report("paper-4.2", &sets).unwrap();
     let sigma = r.max_real_part;
     let period = r
         .vehicle_poles
@@ -234,7 +233,7 @@ fn nonlinear_passages_follow_the_predicted_rates() {
 
 #[test]
 fn designed_ems_gap_loop_is_stable_from_0_to_1000_kg() {
-    // Gains designed for each mass (the scenario's own, as `Scenario::law` does); the paper
+    // Gains designed for each mass (the scenario's own, as `Case::new` does); the paper
     // geometry at the scenario's 0 kg too (negative gains).
     for m in [0.0, 250.0, 500.0, 750.0, 1000.0] {
         let m_set = format!("vehicle.wheel_mass_kg={m}");
@@ -253,9 +252,16 @@ fn ems_gap_loop_passage_with_500_kg_magnets_keeps_every_gap() {
         .iter()
         .map(|s| s.to_string())
         .collect();
-    let sc = scenario::load("paper-4.2", &sets).unwrap();
-    let (out, _) = crate::setup::run_scenario(&sc, &mut crate::probes::NoRecorder, |_| {}).unwrap();
-    let h0 = sc.controller_params().unwrap().h0;
+    let case = crate::case::Case::load("paper-4.2", &sets).unwrap();
+    let out = crate::setup::simulate(
+        &case,
+        crate::setup::Controllers::Core,
+        &mut crate::probes::NoRecorder,
+        |_| {},
+    )
+    .unwrap()
+    .outcome;
+    let h0 = case.h0();
     assert_eq!(out.collision_steps, 0);
     for (w, r) in out.gap_ranges.iter().enumerate() {
         for (lo, hi) in r {

@@ -1,0 +1,841 @@
+//! The typed case: a [`Scenario`] resolved to SI and checked, once.
+//!
+//! Why a second type: a scenario is what a user writes — units in the key names, optional
+//! sections, a vehicle kind as a tag. Everything downstream (`run`, `hil`, `validate`, `sweep`,
+//! `stability --scenario`, the benches and the tests) needs the same thing: numbers in SI that
+//! have been checked against their domain and against the size limits. Converting on demand in
+//! each of those places is how six conversions drift apart; here there is one, in
+//! [`Case::new`], and a value that is wrong is refused with the key that holds it and the limit
+//! it broke, before anything is allocated.
+//!
+//! Derived cases (validate's speeds, a sweep's axes) are made with [`Case::with`]: typed
+//! [`Changes`] applied to the scenario as written and resolved again, so a derived case is
+//! checked exactly as a loaded one and equals the case the same `--set` text would give.
+
+use crate::guideway::{BeamSection, Bridge};
+use crate::probes::{Extent, Probes};
+use crate::scenario::{self, BridgeSection, LawKey, Model, Scenario, SchemeKey, VehicleSection};
+use crate::simulation::{Law, MovingLoad};
+use crate::vehicle::{Fig1, Train, VehicleModel};
+use crate::{Error, Result};
+use maglev_core::gap::Geometry;
+use maglev_core::gap_control::GapParams;
+use maglev_core::levitation::GRAVITY;
+use maglev_core::Params;
+
+/// The most time steps a case may take (t_end / dt): 10⁷ steps is hours of wall time for a
+/// vehicle passage; a larger count is a typo in dt or t_end far more often than intent.
+pub const MAX_STEPS: f64 = 1e7;
+
+/// The largest estimated condition number of an FE span's Newmark matrix
+/// (see [`check_fe_size`]).
+pub const MAX_CONDITION: f64 = 1e10;
+
+/// The most FE DOFs a case may have: about 6 GB of banded model at ~70 doubles per DOF,
+/// and far beyond any span converged at 16 elements.
+pub const MAX_FE_DOFS: f64 = 1e7;
+
+/// The most modes the modal reference may keep per span (each mode is a dense vector over
+/// the span's shape functions; 10⁴ is far past convergence for any span).
+pub const MAX_MODES: usize = 10_000;
+
+/// The most loads a `forces` train may carry.
+pub const MAX_LOADS: usize = 100_000;
+
+/// The most cars a `fig1` train may have (12 magnets each).
+pub const MAX_CARS: usize = 1000;
+
+/// The most Newton–Raphson iterations a step may take.
+pub const MAX_ITERATIONS: u32 = 100_000;
+
+/// What runs over the guideway, in SI.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TrainCase {
+    /// `cars` identical Fig. 1 cars, `car_length` apart (leading wheel to leading wheel).
+    Fig1 {
+        car: Fig1,
+        cars: usize,
+        car_length: f64,
+    },
+    /// Constant vertical moving loads (a `forces` train or the single `moving-force`), the
+    /// leading load at x = 0 at t = 0 and every other behind it.
+    Forces(Vec<MovingLoad>),
+}
+
+/// A scenario resolved to SI and checked (module docs).
+#[derive(Clone, Debug)]
+pub struct Case {
+    /// The scenario as written, after the overrides (kept so [`Case::with`] can derive).
+    pub scenario: Scenario,
+    pub model: Model,
+    /// Train speed (m/s).
+    pub speed: f64,
+    /// Time step (s).
+    pub dt: f64,
+    /// End time (s): as written, or the last wheel off the bridge plus 0.1 s.
+    pub t_end: f64,
+    pub elements_per_span: usize,
+    pub modes: usize,
+    /// Convergence tolerance on the gaps between two iterations (m).
+    pub tolerance: f64,
+    pub max_iterations: u32,
+    pub bridge: Bridge,
+    pub train: TrainCase,
+    /// The magnets' controller (p0 is set per magnet from its car's statics); for a train of
+    /// forces, the paper's parameters at this Δt (unused: forces have no magnets).
+    pub controller: Params,
+    /// Whether the scenario has a `[controller]` section (a forces train needs none).
+    pub has_controller: bool,
+    /// The levitation law, gap-loop gains designed for this vehicle (docs/gap-loop.md).
+    pub law: Law,
+    pub geometry: Geometry,
+    /// The irregularity's seed, when the irregularity is on.
+    pub irregularity_seed: Option<u64>,
+    /// What response.csv records.
+    pub probes: Probes,
+}
+
+/// Typed changes to a case (what validate and a sweep vary), applied by [`Case::with`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Changes {
+    pub speed: Option<f64>,
+    pub model: Option<Model>,
+    pub elements: Option<usize>,
+    pub modes: Option<usize>,
+    pub dt: Option<f64>,
+    pub t_end: Option<f64>,
+    pub n_sub: Option<u32>,
+    pub scheme: Option<SchemeKey>,
+    pub law: Option<LawKey>,
+}
+
+impl Case {
+    /// Loads scenario `name_or_path` (bundled name or file), applies the `key=value`
+    /// overrides and resolves it.
+    pub fn load(name_or_path: &str, sets: &[String]) -> Result<Case> {
+        Case::new(scenario::load(name_or_path, sets)?)
+    }
+
+    /// Resolves and checks `sc` (module docs).
+    pub fn new(sc: Scenario) -> Result<Case> {
+        let r = &sc.run;
+        let speed = positive("run.speed_m_per_s", r.speed_m_per_s)?;
+        let dt = positive("run.dt_s", r.dt_s)?;
+        let tolerance = positive("run.tolerance_m", r.tolerance_m)?;
+        at_least("run.elements_per_span", r.elements_per_span, 1)?;
+        bounded("run.modes", r.modes, 1, MAX_MODES)?;
+        bounded(
+            "run.max_iterations",
+            r.max_iterations as usize,
+            1,
+            MAX_ITERATIONS as usize,
+        )?;
+        let bridge = bridge(&sc.bridge)?;
+        if sc.run.model == Model::Fe {
+            check_fe_size(&bridge, r.elements_per_span, dt)?;
+        }
+        let (train, geometry) = train(&sc.vehicle)?;
+        let controller = match (&sc.controller, &train) {
+            (Some(_), _) => controller(&sc, dt)?,
+            (None, TrainCase::Fig1 { .. }) => {
+                return Err(Error::invalid(
+                    "controller",
+                    "a fig1 vehicle needs a [controller] section",
+                ))
+            }
+            (None, TrainCase::Forces(_)) => Params::paper_wheel(dt),
+        };
+        let t_end = match r.t_end_s {
+            Some(t) => positive("run.t_end_s", t)?,
+            None => (bridge.total_length() + train_length(&train)) / speed + 0.1,
+        };
+        let steps = t_end / dt;
+        if steps.is_nan() || steps > MAX_STEPS {
+            return Err(Error::invalid(
+                "run.t_end_s",
+                format!(
+                    "t_end / run.dt_s = {steps:.3e} steps exceeds the limit of {MAX_STEPS:.0e} steps"
+                ),
+            ));
+        }
+        let law = law(&sc, &train, &controller, geometry, dt)?;
+        let irregularity_seed = sc
+            .irregularity
+            .as_ref()
+            .filter(|i| i.enabled)
+            .map(|i| i.seed);
+        let probes = probes(&sc, &bridge, &train)?;
+        Ok(Case {
+            model: sc.run.model,
+            speed,
+            dt,
+            t_end,
+            elements_per_span: sc.run.elements_per_span,
+            modes: sc.run.modes,
+            tolerance,
+            max_iterations: sc.run.max_iterations,
+            bridge,
+            train,
+            has_controller: sc.controller.is_some(),
+            controller,
+            law,
+            geometry,
+            irregularity_seed,
+            probes,
+            scenario: sc,
+        })
+    }
+
+    /// This case with `changes` applied to its scenario and resolved again (module docs).
+    pub fn with(&self, changes: &Changes) -> Result<Case> {
+        let mut sc = self.scenario.clone();
+        let r = &mut sc.run;
+        if let Some(v) = changes.speed {
+            r.speed_m_per_s = v;
+        }
+        if let Some(v) = changes.model {
+            r.model = v;
+        }
+        if let Some(v) = changes.elements {
+            r.elements_per_span = v;
+        }
+        if let Some(v) = changes.modes {
+            r.modes = v;
+        }
+        if let Some(v) = changes.dt {
+            r.dt_s = v;
+        }
+        if let Some(v) = changes.t_end {
+            r.t_end_s = Some(v);
+        }
+        let controller_change =
+            changes.n_sub.is_some() || changes.scheme.is_some() || changes.law.is_some();
+        match (&mut sc.controller, controller_change) {
+            (Some(c), _) => {
+                if let Some(v) = changes.n_sub {
+                    c.nsub = v;
+                }
+                if let Some(v) = changes.scheme {
+                    c.scheme = v;
+                }
+                if let Some(v) = changes.law {
+                    c.law = v;
+                }
+            }
+            (None, true) => {
+                return Err(Error::invalid(
+                    "controller",
+                    "the case has no [controller] section to change",
+                ))
+            }
+            (None, false) => {}
+        }
+        Case::new(sc)
+    }
+
+    /// The train this case runs (Fig. 1 cars with per-car static p0), or `None` for a train
+    /// of forces.
+    pub fn vehicle_train(&self) -> Result<Option<Train>> {
+        match &self.train {
+            TrainCase::Fig1 {
+                car,
+                cars,
+                car_length,
+            } => Train::fig1_repeated(car, *cars, *car_length, GRAVITY).map(Some),
+            TrainCase::Forces(_) => Ok(None),
+        }
+    }
+
+    /// The controller's nominal gap h0 (m); 0 for a train of forces (no gaps).
+    pub fn h0(&self) -> f64 {
+        if self.has_controller {
+            self.controller.h0
+        } else {
+            0.0
+        }
+    }
+
+    /// X of the middle of every span (the `span{K}.midspan` probes).
+    pub fn midspans(&self) -> Vec<f64> {
+        self.bridge
+            .spans
+            .iter()
+            .scan(0.0, |x0, &l| {
+                let mid = *x0 + l / 2.0;
+                *x0 += l;
+                Some(mid)
+            })
+            .collect()
+    }
+
+    /// Every value the run uses, in SI with the unit in each key (summary.json `case`).
+    pub fn record(&self) -> serde_json::Value {
+        use serde_json::json;
+        let s = &self.bridge.section;
+        let train = match &self.train {
+            TrainCase::Fig1 {
+                car,
+                cars,
+                car_length,
+            } => json!({
+                "kind": "fig1",
+                "cars": cars,
+                "car_length_m": car_length,
+                "body_mass_kg": car.body_mass,
+                "jx_kg_m2": car.jx,
+                "jy_kg_m2": car.jy,
+                "jz_kg_m2": car.jz,
+                "spring_N_per_m": car.k,
+                "damper_N_s_per_m": car.c,
+                "half_length_m": car.half_length,
+                "half_width_m": car.half_width,
+                "offset_y_m": car.offset_y,
+                "target_height_m": car.target_height,
+                "body_height_m": car.body_height,
+                "wheel_mass_kg": car.wheel_mass,
+                "com_ahead_m": car.com_ahead,
+            }),
+            TrainCase::Forces(loads) => json!({
+                "kind": "forces",
+                "loads": loads.iter().map(|l| json!({
+                    "x0_m": l.x0, "force_N": l.force, "ey_m": l.ey, "ez_m": l.ez,
+                })).collect::<Vec<_>>(),
+            }),
+        };
+        let p = &self.controller;
+        let controller = self.has_controller.then(|| {
+            json!({
+                "i0_A": p.i0, "h0_m": p.h0, "r0_ohm": p.r0,
+                "kp_V_m_per_A": p.kp, "ki_V_m_per_A_s": p.ki, "alpha": p.alpha,
+                "nsub": p.n_sub, "interp": format!("{:?}", p.interpolation).to_lowercase(),
+                "vmax_V": p.v_max, "scheme": format!("{:?}", p.scheme).to_lowercase(),
+            })
+        });
+        let law = match self.law {
+            Law::Paper => json!({ "kind": "paper" }),
+            Law::GapLoop(g) => json!({
+                "kind": "gap-loop", "kp": g.kp, "kd_s": g.kd, "tf_s": g.tf,
+                "x_ref_max": g.x_ref_max,
+            }),
+        };
+        json!({
+            "model": format!("{:?}", self.model).to_lowercase(),
+            "speed_m_per_s": self.speed,
+            "dt_s": self.dt,
+            "t_end_s": self.t_end,
+            "elements_per_span": self.elements_per_span,
+            "modes": self.modes,
+            "tolerance_m": self.tolerance,
+            "max_iterations": self.max_iterations,
+            "bridge": {
+                "spans_m": self.bridge.spans,
+                "youngs_modulus_Pa": s.youngs_modulus,
+                "shear_modulus_Pa": s.shear_modulus,
+                "area_m2": s.area,
+                "shear_area_y_m2": s.shear_area_y,
+                "shear_area_z_m2": s.shear_area_z,
+                "iy_m4": s.iy,
+                "iz_m4": s.iz,
+                "torsion_constant_m4": s.torsion_constant,
+                "mass_kg_per_m": s.mass_per_length,
+                "polar_mass_kg_m2_per_m": s.polar_mass,
+            },
+            "train": train,
+            "controller": controller,
+            "law": law,
+            "geometry": format!("{:?}", self.geometry).to_lowercase(),
+            "irregularity_seed": self.irregularity_seed,
+            "probes": self.probes.names,
+        })
+    }
+}
+
+fn positive(key: &str, v: f64) -> Result<f64> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::invalid(
+            key,
+            format!("must be a positive finite number, got {v}"),
+        ))
+    }
+}
+
+fn finite(key: &str, v: f64) -> Result<f64> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(Error::invalid(
+            key,
+            format!("must be a finite number, got {v}"),
+        ))
+    }
+}
+
+fn at_least(key: &str, v: usize, min: usize) -> Result<usize> {
+    if v >= min {
+        Ok(v)
+    } else {
+        Err(Error::invalid(
+            key,
+            format!("must be at least {min}, got {v}"),
+        ))
+    }
+}
+
+fn bounded(key: &str, v: usize, min: usize, max: usize) -> Result<usize> {
+    if (min..=max).contains(&v) {
+        Ok(v)
+    } else {
+        Err(Error::invalid(
+            key,
+            format!("must be between {min} and {max}, got {v}"),
+        ))
+    }
+}
+
+fn bridge(b: &BridgeSection) -> Result<Bridge> {
+    if b.spans_m.is_empty() {
+        return Err(Error::invalid(
+            "bridge.spans_m",
+            "must list at least one span",
+        ));
+    }
+    for (i, &l) in b.spans_m.iter().enumerate() {
+        positive(&format!("bridge.spans_m[{i}]"), l)?;
+    }
+    let kilo = |key: &str, v: f64| positive(key, v).map(|v| v * 1e3);
+    Ok(Bridge {
+        section: BeamSection {
+            youngs_modulus: kilo(
+                "bridge.youngs_modulus_kN_per_m2",
+                b.youngs_modulus_kN_per_m2,
+            )?,
+            shear_modulus: kilo("bridge.shear_modulus_kN_per_m2", b.shear_modulus_kN_per_m2)?,
+            area: positive("bridge.area_m2", b.area_m2)?,
+            shear_area_y: positive("bridge.shear_area_y_m2", b.shear_area_y_m2)?,
+            shear_area_z: positive("bridge.shear_area_z_m2", b.shear_area_z_m2)?,
+            iy: positive("bridge.iy_m4", b.iy_m4)?,
+            iz: positive("bridge.iz_m4", b.iz_m4)?,
+            torsion_constant: positive("bridge.torsion_constant_m4", b.torsion_constant_m4)?,
+            mass_per_length: kilo("bridge.mass_t_per_m", b.mass_t_per_m)?,
+            polar_mass: b
+                .polar_mass_t_m2_per_m
+                .map(|v| kilo("bridge.polar_mass_t_m2_per_m", v))
+                .transpose()?,
+        },
+        spans: b.spans_m.clone(),
+    })
+}
+
+/// Refuses FE discretisations whose Newmark matrix cannot be solved to useful precision or
+/// that exceed the memory limit.
+///
+/// Condition estimate of K + (4/Δt²)·M per span: its largest eigenvalue is at most about the
+/// stiffest element term k_max = max(E·A/l, 12·E·I/l³, G·A_s/l) (l the element length), its
+/// smallest at least the nodal mass term 4·m·l/Δt². Their ratio, plus one, bounds the digits a
+/// solve loses; above [`MAX_CONDITION`] fewer than six of the sixteen digits of f64 survive.
+/// Memory: [`MAX_FE_DOFS`] DOFs (the banded model holds about 70 doubles per DOF).
+pub fn check_fe_size(b: &Bridge, elements: usize, dt: f64) -> Result<()> {
+    let s = &b.section;
+    let n = elements as f64;
+    let dofs = 6.0 * (n + 1.0) * b.spans.len() as f64;
+    if dofs > MAX_FE_DOFS {
+        return Err(Error::invalid(
+            "run.elements_per_span",
+            format!(
+                "{n} elements over {} span(s) is {dofs:.3e} FE DOFs, above the limit of {MAX_FE_DOFS:.0e}",
+                b.spans.len()
+            ),
+        ));
+    }
+    for (i, &span) in b.spans.iter().enumerate() {
+        let l = span / n;
+        let k_max = (s.youngs_modulus * s.area / l)
+            .max(12.0 * s.youngs_modulus * s.iy.max(s.iz) / l.powi(3))
+            .max(s.shear_modulus * s.shear_area_y.max(s.shear_area_z) / l);
+        let m_min = 4.0 * s.mass_per_length * l / (dt * dt);
+        let cond = 1.0 + k_max / m_min;
+        if cond > MAX_CONDITION {
+            return Err(Error::invalid(
+                "run.elements_per_span",
+                format!(
+                    "{n} elements: span {} ({span} m) has {l:.3e} m elements whose Newmark matrix has an estimated condition number {cond:.1e}, above the limit of {MAX_CONDITION:.0e} (fewer than 6 significant digits would survive); use fewer elements or a larger run.dt_s",
+                    i + 1
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The vehicle section in SI, and the magnets' geometry.
+fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
+    match v {
+        VehicleSection::Fig1 {
+            body_mass_t,
+            jx_t_m2,
+            jy_t_m2,
+            jz_t_m2,
+            spring_kN_per_m,
+            damper_kN_s_per_m,
+            half_length_m,
+            half_width_m,
+            offset_y_m,
+            target_height_m,
+            body_height_m,
+            wheel_mass_kg,
+            geometry,
+            repeat,
+            car_length_m,
+        } => {
+            let kilo = |key: &str, v: f64| positive(key, v).map(|v| v * 1e3);
+            if !(*wheel_mass_kg >= 0.0 && wheel_mass_kg.is_finite()) {
+                return Err(Error::invalid(
+                    "vehicle.wheel_mass_kg",
+                    format!("must be zero or a positive finite number, got {wheel_mass_kg}"),
+                ));
+            }
+            let car = Fig1 {
+                body_mass: kilo("vehicle.body_mass_t", *body_mass_t)?,
+                jx: kilo("vehicle.jx_t_m2", *jx_t_m2)?,
+                jy: kilo("vehicle.jy_t_m2", *jy_t_m2)?,
+                jz: kilo("vehicle.jz_t_m2", *jz_t_m2)?,
+                k: kilo("vehicle.spring_kN_per_m", *spring_kN_per_m)?,
+                c: kilo("vehicle.damper_kN_s_per_m", *damper_kN_s_per_m)?,
+                half_length: positive("vehicle.half_length_m", *half_length_m)?,
+                half_width: finite("vehicle.half_width_m", *half_width_m)?,
+                offset_y: finite("vehicle.offset_y_m", *offset_y_m)?,
+                target_height: finite("vehicle.target_height_m", *target_height_m)?,
+                body_height: finite("vehicle.body_height_m", *body_height_m)?,
+                wheel_mass: *wheel_mass_kg,
+                com_ahead: 0.0,
+            };
+            bounded("train.repeat", *repeat, 1, MAX_CARS)?;
+            let car_length = match car_length_m {
+                Some(l) if !(l.is_finite() && *l >= 2.0 * half_length_m) => {
+                    return Err(Error::invalid(
+                        "train.car_length_m",
+                        format!(
+                            "must be a finite number of at least the wheelbase 2·half_length_m = {} m, got {l}",
+                            2.0 * half_length_m
+                        ),
+                    ))
+                }
+                Some(l) => *l,
+                None if *repeat == 1 => 0.0,
+                None => {
+                    return Err(Error::invalid(
+                        "train.car_length_m",
+                        "is needed when train.repeat > 1",
+                    ))
+                }
+            };
+            // The car must be buildable (a positive-definite block, magnets that lift).
+            VehicleModel::fig1(&car, GRAVITY)?;
+            Ok((
+                TrainCase::Fig1 {
+                    car,
+                    cars: *repeat,
+                    car_length,
+                },
+                (*geometry).into(),
+            ))
+        }
+        VehicleSection::MovingForce {
+            force_kN,
+            offset_y_m,
+            offset_z_m,
+        } => Ok((
+            TrainCase::Forces(vec![MovingLoad {
+                x0: 0.0,
+                force: finite("vehicle.force_kN", *force_kN)? * 1e3,
+                ey: finite("vehicle.offset_y_m", *offset_y_m)?,
+                ez: finite("vehicle.offset_z_m", *offset_z_m)?,
+            }]),
+            Geometry::Paper,
+        )),
+        VehicleSection::Forces {
+            loads_kN,
+            offsets_m,
+            repeat,
+            car_length_m,
+            offset_y_m,
+            offset_z_m,
+        } => Ok((
+            TrainCase::Forces(forces(
+                loads_kN,
+                offsets_m,
+                *repeat,
+                *car_length_m,
+                (*offset_y_m, *offset_z_m),
+            )?),
+            Geometry::Paper,
+        )),
+    }
+}
+
+/// The loads of a `forces` train in SI, the leading load at x = 0 at t = 0 and every other
+/// behind it (x0 = −offset − car·car_length).
+fn forces(
+    loads_kn: &[f64],
+    offsets: &[f64],
+    repeat: usize,
+    car_length: Option<f64>,
+    (ey, ez): (f64, f64),
+) -> Result<Vec<MovingLoad>> {
+    if loads_kn.is_empty() || loads_kn.len() != offsets.len() {
+        return Err(Error::invalid(
+            "train.loads_kN",
+            format!(
+                "train.loads_kN and train.offsets_m must be non-empty lists of equal length (got {} and {})",
+                loads_kn.len(),
+                offsets.len()
+            ),
+        ));
+    }
+    if repeat == 0 || repeat.saturating_mul(loads_kn.len()) > MAX_LOADS {
+        return Err(Error::invalid(
+            "train.repeat",
+            format!(
+                "repeat × {} loads must be between 1 and {MAX_LOADS}, got repeat = {repeat}",
+                loads_kn.len()
+            ),
+        ));
+    }
+    let car = match car_length {
+        Some(l) => positive("train.car_length_m", l)?,
+        None if repeat == 1 => 0.0,
+        None => {
+            return Err(Error::invalid(
+                "train.car_length_m",
+                "is needed when train.repeat > 1",
+            ))
+        }
+    };
+    for (i, (&f, &o)) in loads_kn.iter().zip(offsets).enumerate() {
+        finite(&format!("train.loads_kN[{i}]"), f)?;
+        if !(o.is_finite() && o >= 0.0) {
+            return Err(Error::invalid(
+                format!("train.offsets_m[{i}]"),
+                format!("must be zero or positive (behind the leading load), got {o}"),
+            ));
+        }
+    }
+    let ey = finite("train.offset_y_m", ey)?;
+    let ez = finite("train.offset_z_m", ez)?;
+    Ok((0..repeat)
+        .flat_map(|c| {
+            loads_kn
+                .iter()
+                .zip(offsets)
+                .map(move |(&f, &o)| MovingLoad {
+                    x0: -o - c as f64 * car,
+                    force: f * 1e3,
+                    ey,
+                    ez,
+                })
+        })
+        .collect())
+}
+
+/// How far the train reaches behind its leading wheel or load (m).
+fn train_length(t: &TrainCase) -> f64 {
+    match t {
+        TrainCase::Fig1 {
+            car,
+            cars,
+            car_length,
+        } => 2.0 * car.half_length + (cars - 1) as f64 * car_length,
+        TrainCase::Forces(f) => f.iter().map(|l| -l.x0).fold(0.0, f64::max),
+    }
+}
+
+/// The controller parameters in SI (p0 is set per magnet by the simulation).
+fn controller(sc: &Scenario, dt: f64) -> Result<Params> {
+    let Some(c) = &sc.controller else {
+        return Err(Error::invalid(
+            "controller",
+            "the scenario has no [controller] section",
+        ));
+    };
+    let p = Params {
+        i0: c.i0_A,
+        h0: c.h0_m,
+        r0: c.r0_ohm,
+        kp: c.kp_V_m_per_A,
+        ki: c.ki_V_m_per_A_s,
+        p0: 1.0,
+        alpha: c.alpha,
+        dt,
+        n_sub: c.nsub,
+        interpolation: c.interp.into(),
+        v_max: c.vmax_V,
+        scheme: c.scheme.into(),
+    };
+    p.validate()
+        .map_err(|e| Error::invalid("controller", e.to_string()))?;
+    Ok(p)
+}
+
+/// The levitation law (`controller.law`); the paper's without a controller section.
+fn law(
+    sc: &Scenario,
+    train: &TrainCase,
+    controller: &Params,
+    geometry: Geometry,
+    dt: f64,
+) -> Result<Law> {
+    match sc.controller.as_ref().map_or(LawKey::Paper, |c| c.law) {
+        LawKey::Paper => Ok(Law::Paper),
+        LawKey::GapLoop => Ok(Law::GapLoop(match train {
+            // Gains designed for this case's car, inner law and geometry (docs/gap-loop.md);
+            // a train of forces has no magnets to run them.
+            TrainCase::Fig1 { car, .. } => {
+                let v = VehicleModel::fig1(car, GRAVITY)?;
+                crate::stability::design::design(&v, controller, geometry, Some(dt))
+                    .map_err(|e| Error::invalid("controller.law", e))?
+                    .gains
+            }
+            TrainCase::Forces(_) => GapParams::designed(),
+        })),
+    }
+}
+
+/// The case's probes (`[output] probes`, else the default columns), checked against it.
+fn probes(sc: &Scenario, bridge: &Bridge, train: &TrainCase) -> Result<Probes> {
+    let spans = bridge.spans.len();
+    let extent = match train {
+        TrainCase::Fig1 { cars, .. } => Extent {
+            spans,
+            wheels: 4 * cars,
+            cars: *cars,
+            magnets: true,
+        },
+        TrainCase::Forces(f) => Extent {
+            spans,
+            wheels: f.len(),
+            cars: 0,
+            magnets: false,
+        },
+    };
+    Probes::new(sc.output.as_ref().map(|o| o.probes.as_slice()), &extent).map_err(|e| {
+        match e.split_once(": ") {
+            Some((k, reason)) => Error::invalid(k, reason),
+            None => Error::invalid("output.probes", e),
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use maglev_core::Scheme;
+
+    #[test]
+    fn bundled_scenarios_resolve() {
+        for (name, _) in scenario::BUNDLED {
+            Case::load(name, &[]).unwrap();
+        }
+    }
+
+    #[test]
+    fn units_are_converted_at_the_edge() {
+        let c = Case::load("paper-4.2", &[]).unwrap();
+        assert_eq!(c.bridge.section, BeamSection::paper_4_2());
+        let TrainCase::Fig1 { car, cars, .. } = &c.train else {
+            panic!("paper-4.2 is a fig1 case")
+        };
+        assert_eq!((car.body_mass, car.jy, *cars), (15_000.0, 950e3, 1));
+        // (25 m bridge + 15 m wheelbase) / 100 m/s + 0.1 s
+        assert!((c.t_end - 0.5).abs() < 1e-12);
+        assert_eq!(c.law, Law::Paper);
+        assert_eq!(c.controller.scheme, Scheme::Paper);
+        let f = Case::load("moving-force", &[]).unwrap();
+        assert_eq!(
+            f.train,
+            TrainCase::Forces(vec![MovingLoad {
+                x0: 0.0,
+                force: 36_790.0,
+                ey: 0.0,
+                ez: 0.0
+            }])
+        );
+    }
+
+    #[test]
+    fn laws_and_schemes_resolve() {
+        let c = Case::load("paper-4.2", &["law=gap-loop".into()]).unwrap();
+        assert!(matches!(c.law, Law::GapLoop(g) if g.kp < 0.0));
+        let c = Case::load("paper-4.2", &["scheme=accurate".into()]).unwrap();
+        assert_eq!(c.controller.scheme, Scheme::Accurate);
+    }
+
+    /// Every bad value is refused with the key that holds it; nothing is allocated first.
+    #[test]
+    fn bad_values_name_their_key() {
+        for (set, key) in [
+            ("speed=-3", "run.speed_m_per_s"),
+            ("dt=0", "run.dt_s"),
+            ("dt=1e-12", "run.t_end_s"),
+            ("t_end=1e12", "run.t_end_s"),
+            ("t_end=nan", "run.t_end_s"),
+            ("elements=100000", "run.elements_per_span"),
+            ("elements=0", "run.elements_per_span"),
+            ("modes=0", "run.modes"),
+            ("vehicle.target_height_m=nan", "vehicle.target_height_m"),
+            ("vehicle.offset_y_m=inf", "vehicle.offset_y_m"),
+            ("vehicle.body_mass_t=-1", "vehicle.body_mass_t"),
+            ("vehicle.wheel_mass_kg=nan", "vehicle.wheel_mass_kg"),
+            ("vehicle.repeat=2", "train.car_length_m"),
+            ("vehicle.repeat=1001", "train.repeat"),
+            ("bridge.iy_m4=0", "bridge.iy_m4"),
+            ("bridge.spans_m=[]", "bridge.spans_m"),
+            ("controller.alpha=2", "controller"),
+            ("controller.i0_A=nan", "controller"),
+        ] {
+            let e = Case::load("paper-4.2", &[set.into()]).unwrap_err();
+            let m = e.to_string();
+            assert!(matches!(e, Error::Invalid { .. }), "{set}: {m}");
+            assert!(m.starts_with(key), "{set}: expected the key {key}: {m}");
+            assert!(!m.contains('\n'), "{set}: {m}");
+        }
+        let e = Case::load("train-forces", &["train.offsets_m=[0.0]".into()]).unwrap_err();
+        assert!(e.to_string().starts_with("train.loads_kN"), "{e}");
+    }
+
+    /// A derived case equals the case the same `--set` text gives.
+    #[test]
+    fn changes_equal_the_set_text() {
+        let base = Case::load("paper-4.2", &[]).unwrap();
+        let changed = base
+            .with(&Changes {
+                speed: Some(150.0),
+                model: Some(Model::Modal),
+                dt: Some(5e-4),
+                n_sub: Some(10),
+                ..Changes::default()
+            })
+            .unwrap();
+        let text = Case::load(
+            "paper-4.2",
+            &[
+                "speed=150".into(),
+                "model=modal".into(),
+                "dt=5e-4".into(),
+                "nsub=10".into(),
+            ],
+        )
+        .unwrap();
+        assert_eq!(changed.record(), text.record());
+        assert!((changed.t_end - (40.0 / 150.0 + 0.1)).abs() < 1e-12);
+        let e = Case::load("moving-force", &[])
+            .unwrap()
+            .with(&Changes {
+                n_sub: Some(3),
+                ..Changes::default()
+            })
+            .unwrap_err();
+        assert!(e.to_string().starts_with("controller"), "{e}");
+    }
+}
