@@ -271,6 +271,36 @@ pub trait Recorder {
     fn record(&mut self, step: &StepView) -> Result<(), String>;
 }
 
+/// Keeps every step's probe values in memory, one row per committed step (tests, studies
+/// that post-process a few columns).
+pub struct Rows {
+    pub probes: Probes,
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl Rows {
+    pub fn new(probes: Probes) -> Self {
+        Rows {
+            probes,
+            rows: Vec::new(),
+        }
+    }
+
+    /// The history of column `name` (None if no probe has that name).
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let i = self.probes.names.iter().position(|n| n == name)?;
+        Some(self.rows.iter().map(|r| r[i]).collect())
+    }
+}
+
+impl Recorder for Rows {
+    fn record(&mut self, step: &StepView) -> Result<(), String> {
+        let row = self.probes.probes.iter().map(|p| step.value(p)).collect();
+        self.rows.push(row);
+        Ok(())
+    }
+}
+
 /// Records nothing (runs whose callers keep only the in-memory records).
 pub struct NoRecorder;
 

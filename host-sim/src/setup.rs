@@ -11,7 +11,7 @@ use crate::guideway::{Guideway, PointLoad, PointMotion, SectionMotion};
 use crate::hil::coupling::{EventRecord, FirmwareMagnets};
 use crate::hil::link::Link;
 use crate::hil::HilSettings;
-use crate::modal::ModalGuideway;
+use crate::modal::{ModalGuideway, ModalViaduct};
 use crate::probes::Recorder;
 use crate::profile::Profile;
 use crate::scenario::Model;
@@ -54,6 +54,8 @@ impl Guideway for RigidGuideway {
 pub enum AnyGuideway {
     Fe(FeGuideway),
     Modal(ModalGuideway),
+    /// The modal reference over several simply supported spans, one series per span.
+    ModalSpans(ModalViaduct),
     Rigid(RigidGuideway),
 }
 
@@ -65,8 +67,12 @@ impl AnyGuideway {
             Model::Fe => {
                 AnyGuideway::Fe(FeGuideway::new(&case.bridge, case.elements_per_span, dt)?)
             }
-            Model::Modal => AnyGuideway::Modal(
+            Model::Modal if case.bridge.spans.len() == 1 => AnyGuideway::Modal(
                 ModalGuideway::from_bridge(&case.bridge, case.modes, dt)
+                    .map_err(|e| Error::numerical(e.to_string()))?,
+            ),
+            Model::Modal => AnyGuideway::ModalSpans(
+                ModalViaduct::new(&case.bridge, case.modes, dt)
                     .map_err(|e| Error::numerical(e.to_string()))?,
             ),
             Model::Rigid => AnyGuideway::Rigid(RigidGuideway::new(dt)),
@@ -78,6 +84,7 @@ macro_rules! each {
         match $self {
             AnyGuideway::Fe($g) => $e,
             AnyGuideway::Modal($g) => $e,
+            AnyGuideway::ModalSpans($g) => $e,
             AnyGuideway::Rigid($g) => $e,
         }
     };
