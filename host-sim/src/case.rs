@@ -12,9 +12,13 @@
 //! [`Changes`] applied to the scenario as written and resolved again, so a derived case is
 //! checked exactly as a loaded one and equals the case the same `--set` text would give.
 
+use crate::fe::soil::Soil;
+use crate::fe::viaduct::{BearingSpec, FoundationSpec, PierSpec, ViaductSpec};
 use crate::guideway::{BeamSection, Bridge};
 use crate::probes::{Extent, Probes};
-use crate::scenario::{self, BridgeSection, LawKey, Model, Scenario, SchemeKey, VehicleSection};
+use crate::scenario::{
+    self, BridgeKind, BridgeSection, LawKey, Model, Scenario, SchemeKey, VehicleSection,
+};
 use crate::simulation::{Law, MovingLoad};
 use crate::vehicle::{Fig1, Train, VehicleModel};
 use crate::{Error, Result};
@@ -79,7 +83,11 @@ pub struct Case {
     /// Convergence tolerance on the gaps between two iterations (m).
     pub tolerance: f64,
     pub max_iterations: u32,
+    /// The girder section and the spans (for a viaduct: its girders).
     pub bridge: Bridge,
+    /// The viaduct on piers and footings (`bridge.kind = "viaduct"`), or `None` for
+    /// simply supported spans on rigid supports.
+    pub viaduct: Option<ViaductSpec>,
     pub train: TrainCase,
     /// The magnets' controller (p0 is set per magnet from its car's statics); for a train of
     /// forces, the paper's parameters at this Δt (unused: forces have no magnets).
@@ -131,8 +139,15 @@ impl Case {
             MAX_ITERATIONS as usize,
         )?;
         let bridge = bridge(&sc.bridge)?;
+        let viaduct = viaduct(&sc.bridge, &bridge, r.elements_per_span)?;
         if sc.run.model == Model::Fe {
             check_fe_size(&bridge, r.elements_per_span, dt)?;
+        }
+        if viaduct.is_some() && sc.run.model == Model::Modal {
+            return Err(Error::invalid(
+                "run.model",
+                "the modal reference covers simply supported spans on rigid supports, not a viaduct on piers; use fe or rigid",
+            ));
         }
         let (train, geometry) = train(&sc.vehicle)?;
         let controller = match (&sc.controller, &train) {
@@ -175,6 +190,7 @@ impl Case {
             tolerance,
             max_iterations: sc.run.max_iterations,
             bridge,
+            viaduct,
             train,
             has_controller: sc.controller.is_some(),
             controller,
@@ -340,6 +356,33 @@ impl Case {
                 "mass_kg_per_m": s.mass_per_length,
                 "polar_mass_kg_m2_per_m": s.polar_mass,
             },
+            "viaduct": self.viaduct.as_ref().map(|v| {
+                let (b, p, f) = (&v.bearings, &v.pier, &v.foundation);
+                let ps = &p.section;
+                json!({
+                    "bearing_vertical_N_per_m": b.vertical,
+                    "bearing_spacing_m": b.spacing,
+                    "bearing_lateral_N_per_m": b.lateral,
+                    "bearing_longitudinal_N_per_m": b.longitudinal,
+                    "bearing_drop_m": b.drop,
+                    "pier_height_m": p.height,
+                    "pier_elements": p.elements,
+                    "pier_cap_mass_kg": p.cap_mass,
+                    "pier_youngs_modulus_Pa": ps.youngs_modulus,
+                    "pier_shear_modulus_Pa": ps.shear_modulus,
+                    "pier_area_m2": ps.area,
+                    "pier_shear_area_y_m2": ps.shear_area_y,
+                    "pier_shear_area_z_m2": ps.shear_area_z,
+                    "pier_iy_m4": ps.iy,
+                    "pier_iz_m4": ps.iz,
+                    "pier_torsion_constant_m4": ps.torsion_constant,
+                    "pier_mass_kg_per_m": ps.mass_per_length,
+                    "foundation_stiffness_N_per_m_or_N_m_per_rad": f.stiffness,
+                    "foundation_damping_N_s_per_m_or_N_m_s_per_rad": f.damping,
+                    "foundation_mass_kg": f.mass,
+                    "foundation_rotary_inertia_kg_m2": f.rotary_inertia,
+                })
+            }),
             "train": train,
             "controller": controller,
             "law": law,
@@ -368,6 +411,17 @@ fn finite(key: &str, v: f64) -> Result<f64> {
         Err(Error::invalid(
             key,
             format!("must be a finite number, got {v}"),
+        ))
+    }
+}
+
+fn non_negative(key: &str, v: f64) -> Result<f64> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::invalid(
+            key,
+            format!("must be zero or a positive finite number, got {v}"),
         ))
     }
 }
@@ -426,6 +480,110 @@ fn bridge(b: &BridgeSection) -> Result<Bridge> {
         },
         spans: b.spans_m.clone(),
     })
+}
+
+/// The viaduct of `bridge.kind = "viaduct"` in SI: the girders of `girders`, on the
+/// bearings, piers, footings and soil of the sub-tables.
+fn viaduct(b: &BridgeSection, girders: &Bridge, elements: usize) -> Result<Option<ViaductSpec>> {
+    if b.kind == BridgeKind::Spans {
+        for (name, given) in [
+            ("bearings", b.bearings.is_some()),
+            ("pier", b.pier.is_some()),
+            ("footing", b.footing.is_some()),
+            ("soil", b.soil.is_some()),
+        ] {
+            if given {
+                return Err(Error::invalid(
+                    format!("bridge.{name}"),
+                    "only a viaduct has it (set bridge.kind = \"viaduct\")",
+                ));
+            }
+        }
+        return Ok(None);
+    }
+    let need =
+        |name: &str| Error::invalid(format!("bridge.{name}"), "a viaduct needs this section");
+    let span = girders.spans[0];
+    if let Some(i) = girders.spans.iter().position(|&l| l != span) {
+        return Err(Error::invalid(
+            format!("bridge.spans_m[{i}]"),
+            format!(
+                "a viaduct's spans are equal ({span} m), got {}",
+                girders.spans[i]
+            ),
+        ));
+    }
+    let kilo = |key: &str, v: f64| positive(key, v).map(|v| v * 1e3);
+    let be = b.bearings.as_ref().ok_or_else(|| need("bearings"))?;
+    let bearings = BearingSpec {
+        vertical: kilo("bridge.bearings.vertical_kN_per_m", be.vertical_kN_per_m)?,
+        spacing: positive("bridge.bearings.spacing_m", be.spacing_m)?,
+        lateral: kilo("bridge.bearings.lateral_kN_per_m", be.lateral_kN_per_m)?,
+        longitudinal: kilo(
+            "bridge.bearings.longitudinal_kN_per_m",
+            be.longitudinal_kN_per_m,
+        )?,
+        drop: non_negative("bridge.bearings.drop_m", be.drop_m)?,
+    };
+    let p = b.pier.as_ref().ok_or_else(|| need("pier"))?;
+    let pier = PierSpec {
+        section: BeamSection {
+            youngs_modulus: kilo(
+                "bridge.pier.youngs_modulus_kN_per_m2",
+                p.youngs_modulus_kN_per_m2,
+            )?,
+            shear_modulus: kilo(
+                "bridge.pier.shear_modulus_kN_per_m2",
+                p.shear_modulus_kN_per_m2,
+            )?,
+            area: positive("bridge.pier.area_m2", p.area_m2)?,
+            shear_area_y: positive("bridge.pier.shear_area_y_m2", p.shear_area_y_m2)?,
+            shear_area_z: positive("bridge.pier.shear_area_z_m2", p.shear_area_z_m2)?,
+            iy: positive("bridge.pier.iy_m4", p.iy_m4)?,
+            iz: positive("bridge.pier.iz_m4", p.iz_m4)?,
+            torsion_constant: positive("bridge.pier.torsion_constant_m4", p.torsion_constant_m4)?,
+            mass_per_length: kilo("bridge.pier.mass_t_per_m", p.mass_t_per_m)?,
+            polar_mass: None,
+        },
+        height: positive("bridge.pier.height_m", p.height_m)?,
+        elements: bounded("bridge.pier.elements", p.elements, 1, 1000)?,
+        cap_mass: non_negative("bridge.pier.cap_mass_t", p.cap_mass_t)? * 1e3,
+    };
+    let so = b.soil.as_ref().ok_or_else(|| need("soil"))?;
+    let soil = Soil {
+        shear_wave_velocity: positive(
+            "bridge.soil.shear_wave_velocity_m_per_s",
+            so.shear_wave_velocity_m_per_s,
+        )?,
+        density: kilo("bridge.soil.density_t_per_m3", so.density_t_per_m3)?,
+        poisson: so.poisson,
+    };
+    if !(0.0..0.5).contains(&soil.poisson) {
+        return Err(Error::invalid(
+            "bridge.soil.poisson",
+            format!("must be in [0, 0.5), got {}", soil.poisson),
+        ));
+    }
+    let f = b.footing.as_ref().ok_or_else(|| need("footing"))?;
+    let foundation = FoundationSpec::footing(
+        &soil,
+        positive("bridge.footing.along_x_m", f.along_x_m)?,
+        positive("bridge.footing.across_y_m", f.across_y_m)?,
+        positive("bridge.footing.thickness_m", f.thickness_m)?,
+        kilo("bridge.footing.density_t_per_m3", f.density_t_per_m3)?,
+    )?;
+    let spec = ViaductSpec {
+        spans: girders.spans.len(),
+        span_length: span,
+        girder: girders.section.clone(),
+        elements_per_span: elements,
+        bearings,
+        pier,
+        foundation,
+        damping: None,
+    };
+    spec.validate()?;
+    Ok(Some(spec))
 }
 
 /// Refuses FE discretisations whose Newmark matrix cannot be solved to useful precision or
@@ -802,6 +960,65 @@ mod tests {
         }
         let e = Case::load("train-forces", &["train.offsets_m=[0.0]".into()]).unwrap_err();
         assert!(e.to_string().starts_with("train.loads_kN"), "{e}");
+    }
+
+    /// The bundled paper-5 scenario is `fe::paper5_viaduct()` in the file's units.
+    #[test]
+    fn paper5_scenario_is_the_documented_viaduct() {
+        let c = Case::load("paper-5", &[]).unwrap();
+        let v = c.viaduct.clone().unwrap();
+        let r = crate::fe::paper5_viaduct();
+        let close = |a: f64, b: f64, what: &str| {
+            assert!(
+                (a - b).abs() <= 1e-12 * b.abs().max(1e-300),
+                "{what}: {a} vs {b}"
+            )
+        };
+        assert_eq!((v.spans, v.elements_per_span, v.pier.elements), (35, 16, 4));
+        close(v.span_length, r.span_length, "span");
+        let sections = [(&v.girder, &r.girder), (&v.pier.section, &r.pier.section)];
+        for (a, b) in sections {
+            close(a.youngs_modulus, b.youngs_modulus, "E");
+            close(a.shear_modulus, b.shear_modulus, "G");
+            close(a.area, b.area, "A");
+            close(a.shear_area_y, b.shear_area_y, "Asy");
+            close(a.shear_area_z, b.shear_area_z, "Asz");
+            close(a.iy, b.iy, "Iy");
+            close(a.iz, b.iz, "Iz");
+            close(a.torsion_constant, b.torsion_constant, "J");
+            close(a.mass_per_length, b.mass_per_length, "m");
+            assert_eq!(a.polar_mass.is_some(), b.polar_mass.is_some());
+            if let (Some(x), Some(y)) = (a.polar_mass, b.polar_mass) {
+                close(x, y, "polar mass");
+            }
+        }
+        let (a, b) = (&v.bearings, &r.bearings);
+        for (x, y) in [
+            (a.vertical, b.vertical),
+            (a.spacing, b.spacing),
+            (a.lateral, b.lateral),
+            (a.longitudinal, b.longitudinal),
+            (a.drop, b.drop),
+            (v.pier.height, r.pier.height),
+            (v.pier.cap_mass, r.pier.cap_mass),
+            (v.foundation.mass, r.foundation.mass),
+        ] {
+            close(x, y, "bearing/pier/footing");
+        }
+        for i in 0..6 {
+            close(v.foundation.stiffness[i], r.foundation.stiffness[i], "K");
+            close(v.foundation.damping[i], r.foundation.damping[i], "C");
+        }
+        assert_eq!(v.damping, r.damping);
+        assert_eq!((c.dt, c.speed), (0.002, 83.33));
+        assert!(((c.t_end / c.dt) - 5000.0).abs() < 1e-9);
+        // The viaduct's sub-tables belong to a viaduct only; a modal viaduct is refused.
+        let e = Case::load("paper-5", &["bridge.kind=spans".into()]).unwrap_err();
+        assert!(e.to_string().starts_with("bridge.bearings"), "{e}");
+        let e = Case::load("paper-5", &["model=modal".into()]).unwrap_err();
+        assert!(e.to_string().starts_with("run.model"), "{e}");
+        let e = Case::load("paper-5", &["bridge.pier.height_m=-1".into()]).unwrap_err();
+        assert!(e.to_string().starts_with("bridge.pier.height_m"), "{e}");
     }
 
     /// A derived case equals the case the same `--set` text gives.

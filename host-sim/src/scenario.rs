@@ -8,8 +8,9 @@ use maglev_core::{Interpolation, Scheme};
 use serde::{Deserialize, Serialize};
 
 /// Bundled scenarios: (name, TOML text).
-pub const BUNDLED: [(&str, &str); 3] = [
+pub const BUNDLED: [(&str, &str); 4] = [
     ("paper-4.2", include_str!("../scenarios/paper-4.2.toml")),
+    ("paper-5", include_str!("../scenarios/paper-5.toml")),
     (
         "train-forces",
         include_str!("../scenarios/train-forces.toml"),
@@ -80,6 +81,80 @@ pub struct BridgeSection {
     pub torsion_constant_m4: f64,
     pub mass_t_per_m: f64,
     pub polar_mass_t_m2_per_m: Option<f64>,
+    /// `spans` (independent simply supported spans on rigid supports, the default) or
+    /// `viaduct` (the girders above on bearings, piers and footings: docs/viaduct.md; needs
+    /// `[bridge.bearings]`, `[bridge.pier]`, `[bridge.footing]`, `[bridge.soil]`).
+    #[serde(default)]
+    pub kind: BridgeKind,
+    pub bearings: Option<BearingsSection>,
+    pub pier: Option<PierSection>,
+    pub footing: Option<FootingSection>,
+    pub soil: Option<SoilSection>,
+}
+
+/// `bridge.kind`.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum BridgeKind {
+    #[default]
+    Spans,
+    Viaduct,
+}
+
+/// `[bridge.bearings]`: the two bearings at each girder end (docs/viaduct.md).
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct BearingsSection {
+    /// Vertical stiffness of one bearing.
+    pub vertical_kN_per_m: f64,
+    /// Lateral spacing of the two bearings of an end.
+    pub spacing_m: f64,
+    /// Lateral stiffness of a girder end.
+    pub lateral_kN_per_m: f64,
+    /// Longitudinal stiffness of the fixed (left) end; the right end slides.
+    pub longitudinal_kN_per_m: f64,
+    /// Height of the girder centroid above the bearing point.
+    pub drop_m: f64,
+}
+
+/// `[bridge.pier]`: a vertical Timoshenko column (`iz_m4` bends it laterally, `iy_m4`
+/// longitudinally; `shear_area_y_m2` lateral, `shear_area_z_m2` longitudinal shear).
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct PierSection {
+    pub height_m: f64,
+    pub elements: usize,
+    pub cap_mass_t: f64,
+    pub youngs_modulus_kN_per_m2: f64,
+    pub shear_modulus_kN_per_m2: f64,
+    pub area_m2: f64,
+    pub shear_area_y_m2: f64,
+    pub shear_area_z_m2: f64,
+    pub iy_m4: f64,
+    pub iz_m4: f64,
+    pub torsion_constant_m4: f64,
+    pub mass_t_per_m: f64,
+}
+
+/// `[bridge.footing]`: a rigid rectangular concrete footing under each pier.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct FootingSection {
+    pub along_x_m: f64,
+    pub across_y_m: f64,
+    pub thickness_m: f64,
+    pub density_t_per_m3: f64,
+}
+
+/// `[bridge.soil]`: the half-space under the footings (Gazetas' impedances, docs/viaduct.md).
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct SoilSection {
+    pub shear_wave_velocity_m_per_s: f64,
+    pub density_t_per_m3: f64,
+    pub poisson: f64,
 }
 
 #[derive(Deserialize, Serialize, Debug, Clone)]
@@ -335,15 +410,33 @@ fn apply_set(table: &mut toml::Table, set: &str) -> Result<()> {
         .ok()
         .and_then(|mut t| t.remove("v"))
         .unwrap_or_else(|| toml::Value::String(value.to_string()));
-    let sec = table
+    // `[vehicle]` and `[train]` are one section under two names: use the one the text has.
+    let section = match section {
+        "vehicle" | "train" if table.contains_key("train") => "train",
+        "vehicle" | "train" => "vehicle",
+        other => other,
+    };
+    // `section.sub.key`: walk (or create) the tables down to the last key.
+    let mut path: Vec<&str> = field.split('.').collect();
+    let leaf = path.pop().unwrap_or(field);
+    let mut sec = table
         .entry(section.to_string())
-        .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-    let sec = sec
+        .or_insert_with(|| toml::Value::Table(toml::Table::new()))
         .as_table_mut()
         .ok_or_else(|| Error::invalid(format!("--set {section}"), "is not a section"))?;
+    for (depth, name) in path.iter().enumerate() {
+        sec = sec
+            .entry(name.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+            .as_table_mut()
+            .ok_or_else(|| {
+                let at = [&[section][..], &path[..=depth]].concat().join(".");
+                Error::invalid(format!("--set {at}"), "is not a section")
+            })?;
+    }
     // Integers given where floats are expected (speed=100) are fine for serde; floats given
     // for integers are not, which is the error we want.
-    sec.insert(field.to_string(), parsed);
+    sec.insert(leaf.to_string(), parsed);
     Ok(())
 }
 

@@ -6,7 +6,7 @@
 //! `hil --compare` measures), so everything else is built here, once, from the [`Case`].
 
 use crate::case::{Case, TrainCase};
-use crate::fe::FeGuideway;
+use crate::fe::{FeGuideway, Viaduct};
 use crate::guideway::{Guideway, PointLoad, PointMotion, SectionMotion};
 use crate::hil::coupling::{EventRecord, FirmwareMagnets};
 use crate::hil::link::Link;
@@ -56,6 +56,8 @@ pub enum AnyGuideway {
     Modal(ModalGuideway),
     /// The modal reference over several simply supported spans, one series per span.
     ModalSpans(ModalViaduct),
+    /// The viaduct on bearings, piers and footings (`bridge.kind = "viaduct"`).
+    Viaduct(Viaduct),
     Rigid(RigidGuideway),
 }
 
@@ -63,19 +65,26 @@ impl AnyGuideway {
     /// Builds the case's guideway model with its discretisation.
     pub fn new(case: &Case) -> Result<Self> {
         let dt = case.dt;
-        Ok(match case.model {
-            Model::Fe => {
+        Ok(match (case.model, &case.viaduct) {
+            (Model::Fe, Some(spec)) => AnyGuideway::Viaduct(Viaduct::new(spec, dt)?),
+            (Model::Modal, Some(_)) => {
+                return Err(Error::invalid(
+                    "run.model",
+                    "the modal reference has no viaduct on piers; use fe or rigid",
+                ))
+            }
+            (Model::Fe, None) => {
                 AnyGuideway::Fe(FeGuideway::new(&case.bridge, case.elements_per_span, dt)?)
             }
-            Model::Modal if case.bridge.spans.len() == 1 => AnyGuideway::Modal(
+            (Model::Modal, None) if case.bridge.spans.len() == 1 => AnyGuideway::Modal(
                 ModalGuideway::from_bridge(&case.bridge, case.modes, dt)
                     .map_err(|e| Error::numerical(e.to_string()))?,
             ),
-            Model::Modal => AnyGuideway::ModalSpans(
+            (Model::Modal, None) => AnyGuideway::ModalSpans(
                 ModalViaduct::new(&case.bridge, case.modes, dt)
                     .map_err(|e| Error::numerical(e.to_string()))?,
             ),
-            Model::Rigid => AnyGuideway::Rigid(RigidGuideway::new(dt)),
+            (Model::Rigid, _) => AnyGuideway::Rigid(RigidGuideway::new(dt)),
         })
     }
 }
@@ -85,6 +94,7 @@ macro_rules! each {
             AnyGuideway::Fe($g) => $e,
             AnyGuideway::Modal($g) => $e,
             AnyGuideway::ModalSpans($g) => $e,
+            AnyGuideway::Viaduct($g) => $e,
             AnyGuideway::Rigid($g) => $e,
         }
     };

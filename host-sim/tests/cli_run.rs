@@ -240,3 +240,33 @@ fn oversized_cases_are_refused_with_one_line_naming_the_key_and_limit() {
         assert!(!d.exists(), "{set}: a refused run left an output directory");
     }
 }
+
+/// The paper's §5: the viaduct's first lateral, vertical and torsional frequencies lie
+/// between 2 and 6.5 Hz (docs/model.md §10), as `maglev modes --scenario paper-5` lists them.
+#[test]
+fn paper5_first_frequencies_lie_in_the_papers_band() {
+    let out = maglev(&[
+        "modes",
+        "--scenario",
+        "paper-5",
+        "--count",
+        "1",
+        "--format",
+        "json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
+    for kind in ["bending-y", "bending-z", "torsion"] {
+        let f = rows
+            .iter()
+            .find(|r| r["kind"] == kind)
+            .unwrap_or_else(|| panic!("no {kind} mode listed: {rows:?}"))["frequency_hz"]
+            .as_f64()
+            .unwrap();
+        assert!((2.0..=6.5).contains(&f), "first {kind} mode at {f} Hz");
+    }
+}
