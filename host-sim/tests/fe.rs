@@ -403,6 +403,8 @@ fn modes_cli_json_matches_closed_form() {
         count: 12,
         format: Format::Json,
         viaduct: None,
+        scenario: None,
+        sets: Vec::new(),
     };
     let v: serde_json::Value = serde_json::from_str(&render(&args).unwrap()).unwrap();
     let rows = v.as_array().unwrap();
@@ -432,6 +434,8 @@ fn modes_cli_json_matches_closed_form() {
         count: 3,
         format: Format::Csv,
         viaduct: None,
+        scenario: None,
+        sets: Vec::new(),
     })
     .unwrap();
     assert_eq!(csv.lines().next(), Some("index,frequency_hz,kind"));
@@ -448,6 +452,8 @@ fn modes_cli_rejects_bad_arguments() {
             count,
             format: Format::Csv,
             viaduct: None,
+            scenario: None,
+            sets: Vec::new(),
         })
         .unwrap_err();
         assert!(!e.contains('\n'), "{e}");
@@ -458,6 +464,8 @@ fn modes_cli_rejects_bad_arguments() {
         count: 119,
         format: Format::Csv,
         viaduct: None,
+        scenario: None,
+        sets: Vec::new(),
     })
     .is_ok());
 }
