@@ -14,6 +14,7 @@ pub mod hil;
 pub mod modal;
 pub mod newmark;
 pub mod output;
+pub mod paper5;
 pub mod plot;
 pub mod probes;
 pub mod profile;

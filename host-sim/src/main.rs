@@ -37,6 +37,9 @@ enum Command {
     /// Many runs over the product of --set axes, reduced to peak/min/max/rms of probes;
     /// parallel, resumable, sharded, merged, or emitted as a Slurm job array (docs/sweeps.md).
     Sweep(cli::sweep::Args),
+    /// The paper's §5 (Fig. 8): maglev and wheel/rail trains over the viaduct, band levels at
+    /// a carriage and a pier, held against the paper's statements; report.md into --out.
+    Report(cli::report::Args),
 }
 
 /// Exit status: 0 done, 2 an error (one line on stderr), 3 `run --strict` refused the run.
@@ -56,6 +59,7 @@ fn main() -> ExitCode {
         Command::Stability(a) => cli::stability::run(a).map_err(msg),
         Command::Hil(a) => cli::hil::run(a),
         Command::Bands(a) => cli::bands::run(a).map_err(msg),
+        Command::Report(a) => cli::report::run(a),
         Command::Sweep(a) => cli::sweep::run(a).map_err(anyhow::Error::from),
     };
     match result {

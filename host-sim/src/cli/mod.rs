@@ -6,6 +6,7 @@ pub mod hil;
 pub mod irregularity;
 pub mod modes;
 pub mod progress;
+pub mod report;
 pub mod run;
 pub mod stability;
 pub mod sweep;

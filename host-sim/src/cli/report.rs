@@ -1,0 +1,62 @@
+//! `maglev report paper-5 --out DIR [--set key=value]...`: runs both trains of the paper's
+//! §5 over the viaduct and writes report.md, fig8.svg, bands.csv and each train's histories
+//! (history-maglev.csv, history-wheel-rail.csv), through [`crate::paper5`].
+
+use crate::cli::progress::Progress;
+use crate::output::Staging;
+use crate::paper5::{self, CARRIAGE, PIER, TRAINS};
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The report: `paper-5` (the paper's Fig. 8 comparison).
+    #[arg(value_parser = ["paper-5"])]
+    pub report: String,
+    /// Output directory (replaced whole, as for `maglev run`).
+    #[arg(long, default_value = "report-paper-5")]
+    pub out: PathBuf,
+    /// Override a scenario value in both runs (as `maglev run --set`; `train` is the report's).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    if let Some(s) = args
+        .sets
+        .iter()
+        .find(|s| s.trim_start().starts_with("train="))
+    {
+        anyhow::bail!("report --set {s}: the report runs both trains; override another key");
+    }
+    let out = Staging::new(&args.out)?;
+    let mut runs = Vec::new();
+    for train in TRAINS {
+        let mut bar = Progress::run(&format!("report: {train}"));
+        runs.push(paper5::run_train(train, &args.sets, |f| bar.fraction(f))?);
+    }
+    let maglev = paper5::levels(&runs[0])?;
+    let wheel_rail = paper5::levels(&runs[1])?;
+    for r in &runs {
+        let mut csv = format!("t,{CARRIAGE},{PIER}\n");
+        for (i, (c, p)) in r.carriage.iter().zip(&r.pier).enumerate() {
+            let _ = writeln!(csv, "{},{c},{p}", i as f64 * r.dt);
+        }
+        out.put(&format!("history-{}.csv", r.train), &csv)?;
+    }
+    out.put("bands.csv", &paper5::bands_csv(&maglev, &wheel_rail))?;
+    out.put("fig8.svg", &paper5::figure(&maglev, &wheel_rail)?)?;
+    let md = paper5::markdown(&runs, &maglev, &wheel_rail, &args.sets);
+    out.put("report.md", &md)?;
+    out.finish()?;
+    for s in paper5::statements(&maglev, &wheel_rail) {
+        eprintln!(
+            "maglev: report: {} — {} ({})",
+            if s.holds { "holds" } else { "DOES NOT HOLD" },
+            s.claim,
+            s.measured
+        );
+    }
+    eprintln!("maglev: report: wrote {}", args.out.display());
+    Ok(())
+}
