@@ -128,7 +128,7 @@ fn an_element_with_ends_across_its_direction_is_refused() {
 // ---------------------------------------------------------------- the Fig. 6 carriage
 
 /// The rigid motion (t, θ) of the whole carriage as its DOF vector, from the geometry.
-fn fig6_rigid(p: &Fig6, car: &CarBlock, t: [f64; 3], th: [f64; 3]) -> DVector<f64> {
+fn fig6_rigid(p: &Fig6, car: &VehicleModel, t: [f64; 3], th: [f64; 3]) -> DVector<f64> {
     let mut u = DVector::zeros(car.k.nrows());
     let (body, bogies) = p.bodies();
     for (base, at) in std::iter::once((0, body.at))
@@ -294,7 +294,7 @@ fn fig6_body_bounce_and_pitch_on_held_magnets() {
 // ---------------------------------------------------------------- the wheel/rail car
 
 /// The rigid motion (heave t_z, roll θx, pitch θy about the origin) as the car's DOF vector.
-fn wr_rigid(p: &WheelRail, car: &CarBlock, tz: f64, rx: f64, ry: f64) -> DVector<f64> {
+fn wr_rigid(p: &WheelRail, car: &VehicleModel, tz: f64, rx: f64, ry: f64) -> DVector<f64> {
     let mut u = DVector::zeros(17);
     let (t, th) = ([0.0, 0.0, tz], [rx, ry, 0.0]);
     let (body, bogies, _) = p.bodies();

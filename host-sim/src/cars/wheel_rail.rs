@@ -15,8 +15,8 @@
 //! heave and roll are z = (z_near + z_far)/2 and θx = (z_far − z_near)/(2·b0), an exact change
 //! of coordinates that gives each contact a DOF of its own.
 
-use super::link::{add_spring_damper, static_solution, Axis, End, Rigid, RX, RY, UZ};
-use super::{CarBlock, CarKind, Contact};
+use super::link::{add_spring_damper, Axis, End, Rigid, RX, RY, UZ};
+use super::{Contact, VehicleModel};
 use crate::{Error, Result};
 use nalgebra::{DMatrix, DVector};
 
@@ -179,7 +179,7 @@ impl WheelRail {
     }
 
     /// Builds the car (module docs); contact loads from its exact statics on held wheels.
-    pub fn build(&self, gravity: f64) -> Result<CarBlock> {
+    pub fn build(&self, gravity: f64) -> Result<VehicleModel> {
         self.validate()?;
         let n = 17;
         let (mut m, mut c, mut k) = (
@@ -224,8 +224,6 @@ impl WheelRail {
                 add_spring_damper(&mut k, &mut c, (self.k_pri, self.c_pri), Axis::Z, w, o)?;
             }
         }
-        let held: Vec<usize> = (9..17).collect();
-        let (_, r) = static_solution(&k, &f, &held)?;
         let x_front = self.wheelset_x(0);
         let mut contacts = Vec::with_capacity(8);
         for a in 0..4 {
@@ -233,27 +231,18 @@ impl WheelRail {
                 .into_iter()
                 .enumerate()
             {
-                let dof_z = 9 + 2 * a + s;
-                let p0 = r[dof_z];
-                if p0.is_nan() || p0 <= 0.0 {
-                    return Err(Error::numerical(format!(
-                        "wheel_rail: wheel {} carries no load in the static solution ({p0} N)",
-                        2 * a + s + 1
-                    )));
-                }
                 contacts.push(Contact {
                     x0: self.wheelset_x(a) - x_front,
                     ey: yc + dy,
                     ez: self.rail_z,
-                    dof_z,
-                    p0,
-                    k_h: hertz_stiffness(p0, self.wheel_radius),
+                    dof_z: 9 + 2 * a + s,
+                    p0: 0.0,
+                    k_h: 0.0,
                 });
             }
         }
         let weight = gravity * (self.body_mass + 2.0 * self.bogie_mass + 4.0 * self.wheelset_mass);
-        Ok(CarBlock {
-            kind: CarKind::WheelRail,
+        let mut car = VehicleModel {
             m,
             c,
             k,
@@ -264,6 +253,13 @@ impl WheelRail {
             body_pitch: 2,
             length: self.car_length,
             weight,
-        })
+        };
+        // Exact statics with every wheel held: the reactions are the contacts' P0.
+        let (_, loads) = car.static_loads(&f)?;
+        for (c, p0) in car.contacts.iter_mut().zip(loads) {
+            c.p0 = p0;
+            c.k_h = hertz_stiffness(p0, self.wheel_radius);
+        }
+        Ok(car)
     }
 }
