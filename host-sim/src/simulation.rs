@@ -467,14 +467,14 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             // The car sees the rail's motion of this iterate (and the lift-off correction of
             // the last one); its contact forces follow from its solution.
             for (j, c) in v.contacts.iter().enumerate() {
-                fc[j] = c.k_h * (zg[j] - crz[j]) + lift[j];
+                fc[j] = c.k * (zg[j] - crz[j]) + lift[j];
             }
             veh.solve(v, &f, &fc);
             zg_used.copy_from_slice(&zg);
             lift_used.copy_from_slice(&lift);
             lost = false;
             for (j, c) in v.contacts.iter().enumerate() {
-                let p = contact_force(c.p0, c.k_h, veh.u1(c.car, c.dof_z), zg[j], crz[j]);
+                let p = contact_force(c.p0, c.k, veh.u1(c.car, c.dof_z), zg[j], crz[j]);
                 lift[j] = (-p).max(0.0);
                 lost |= p < 0.0;
                 contact_p[j] = p.max(0.0);
@@ -497,7 +497,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
                 .fold(0.0, f64::max);
             let change_c = (0..nc)
                 .map(|j| {
-                    let k_h = v.contacts[j].k_h;
+                    let k_h = v.contacts[j].k;
                     (zg[j] - zg_used[j])
                         .abs()
                         .max((lift[j] - lift_used[j]).abs() / k_h)
@@ -577,10 +577,10 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     })
 }
 
-/// The linearised Hertz contact force (N, compressive positive; docs/cars.md "Wheel–rail
-/// contact"): `P = P0 − k_h·(z_w − z_g + r_z)`, with z_w the wheel's and z_g the rail point's
+/// The linearised contact force (N, compressive positive; docs/cars.md "Wheel–rail
+/// contact"): `P = P0 − k·(z_w − z_g + r_z)`, k the contact spring ([`crate::vehicle::Contact::k`]), with z_w the wheel's and z_g the rail point's
 /// displacement (m, up) and r_z the irregularity (m; r_z > 0 opens the gap, as in Eq. 2).
 /// Negative means the wheel has lifted off: the caller clamps it at zero.
-pub fn contact_force(p0: f64, k_h: f64, z_w: f64, z_g: f64, r_z: f64) -> f64 {
-    p0 - k_h * (z_w - z_g + r_z)
+pub fn contact_force(p0: f64, k: f64, z_w: f64, z_g: f64, r_z: f64) -> f64 {
+    p0 - k * (z_w - z_g + r_z)
 }

@@ -53,6 +53,10 @@ pub struct Contact {
     pub p0: f64,
     /// Linearised Hertz stiffness at P0 (N/m), `cars::wheel_rail::hertz_stiffness`.
     pub k_h: f64,
+    /// The contact spring between the wheel and the girder's rail point (N/m): the Hertz
+    /// spring in series with the track (rail on its pads), `cars::wheel_rail::series`. The
+    /// coupling and [`VehicleModel::k_on_rigid_rail`] use this one.
+    pub k: f64,
 }
 
 /// Parameters of the Fig. 1 vehicle (SI), defaults from docs/model.md §9.
@@ -235,13 +239,13 @@ impl VehicleModel {
         Ok(v)
     }
 
-    /// The stiffness with every contact spring tied to a fixed, smooth rail (`k_h` on each
+    /// The stiffness with every contact spring tied to a fixed, smooth rail (`k` on each
     /// contact DOF): the car on a rigid rail, and the matrix the coupling integrates (the
     /// contact springs are implicit on the car's side, docs/cars.md). For a maglev car, `k`.
     pub fn k_on_rigid_rail(&self) -> DMatrix<f64> {
         let mut k = self.k.clone();
         for c in &self.contacts {
-            k[(c.dof_z, c.dof_z)] += c.k_h;
+            k[(c.dof_z, c.dof_z)] += c.k;
         }
         k
     }
@@ -363,9 +367,9 @@ pub struct TrainContact {
     pub ez: f64,
     /// The wheel's Z DOF in its car.
     pub dof_z: usize,
-    /// Static load (N, compressive) and linearised Hertz stiffness (N/m).
+    /// Static load (N, compressive) and the contact spring (N/m, [`Contact::k`]).
     pub p0: f64,
-    pub k_h: f64,
+    pub k: f64,
 }
 
 /// A guideway node of a train as the probes number them (`wheel{N}`): a magnet wheel (index
@@ -490,7 +494,7 @@ impl Train {
                     ez: k.ez,
                     dof_z: k.dof_z,
                     p0: k.p0,
-                    k_h: k.k_h,
+                    k: k.k,
                 });
             }
         }

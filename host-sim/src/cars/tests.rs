@@ -388,7 +388,7 @@ fn hertz_stiffness_against_the_formula_and_a_derivative() {
 #[test]
 fn wheel_rail_contact_forces_on_a_smooth_rigid_rail_are_the_static_loads() {
     // The car free on its 8 contact springs over a fixed rail: solve K_rail u = f (nothing
-    // held); each contact force k_H·(−u) equals P0 and they sum to the weight.
+    // held); each contact force k·(−u) equals P0 and they sum to the weight.
     let p = WheelRail::default();
     let car = p.build(G).unwrap();
     let (body, bogies, wheelsets) = p.bodies();
@@ -403,15 +403,16 @@ fn wheel_rail_contact_forces_on_a_smooth_rigid_rail_are_the_static_loads() {
     let (u, _) = static_solution(&car.k_on_rigid_rail(), &f, &[]).unwrap();
     let mut sum = 0.0;
     for c in &car.contacts {
-        let force = -c.k_h * u[c.dof_z];
+        let force = -c.k * u[c.dof_z];
         assert!((force - c.p0).abs() < 1e-9 * c.p0, "{force} vs {}", c.p0);
         sum += force;
     }
     assert!((sum - car.weight).abs() < 1e-9 * car.weight);
-    // The contact compression is P0/k_H ≈ 60 µm; the body sags by the two suspensions more.
+    // The contact compression is P0/k (Hertz and track in series); the body sags by the two
+    // suspensions more.
     let sag = 44_000.0 * G / (4.0 * p.k_sec)
         + 48_800.0 * G / (8.0 * p.k_pri)
-        + car.contacts[0].p0 / car.contacts[0].k_h;
+        + car.contacts[0].p0 / car.contacts[0].k;
     assert!((u[car.body_z] + sag).abs() < 1e-9 * sag);
 }
 

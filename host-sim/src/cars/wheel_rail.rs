@@ -32,6 +32,28 @@ pub fn hertz_stiffness(p0: f64, radius: f64) -> f64 {
     1.5 * p0.cbrt() / zhai_g(radius)
 }
 
+/// The track's point stiffness under a wheel (N/m): the rail as an infinite Euler beam
+/// (bending stiffness `rail_ei`, N·m²) on its pads (`pad` N/m each, `spacing` m apart) smeared
+/// into a Winkler foundation k_f = pad/spacing; a point load P deflects it by
+/// w0 = P·β/(2·k_f), β = (k_f/(4·EI))^(1/4) (Hetényi, *Beams on Elastic Foundation*, 1946),
+/// so k = 2·k_f/β.
+pub fn track_stiffness(rail_ei: f64, pad: f64, spacing: f64) -> f64 {
+    let kf = pad / spacing;
+    let beta = (kf / (4.0 * rail_ei)).powf(0.25);
+    2.0 * kf / beta
+}
+
+/// Two springs in series (N/m); an infinite one is rigid.
+pub fn series(a: f64, b: f64) -> f64 {
+    if a.is_infinite() {
+        b
+    } else if b.is_infinite() {
+        a
+    } else {
+        a * b / (a + b)
+    }
+}
+
 /// Parameters of the wheel/rail car (SI). Defaults and sources: docs/cars.md.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WheelRail {
@@ -66,6 +88,10 @@ pub struct WheelRail {
     pub rail_z: f64,
     /// Car pitch along the train (m).
     pub car_length: f64,
+    /// The track's point stiffness under each wheel (N/m), in series with the Hertz spring
+    /// ([`track_stiffness`]; docs/cars.md "The track"); `f64::INFINITY` puts the wheel on the
+    /// girder through the Hertz spring alone.
+    pub track_stiffness: f64,
 }
 
 impl Default for WheelRail {
@@ -92,6 +118,8 @@ impl Default for WheelRail {
             track_y: 2.25,
             rail_z: 1.0,
             car_length: 25.0,
+            // UIC60 rail (E·I = 2.06e11 × 3.217e-5 m⁴) on 60 kN/mm pads every 0.625 m.
+            track_stiffness: track_stiffness(2.06e11 * 3.217e-5, 6.0e7, 0.625),
         }
     }
 }
@@ -116,6 +144,15 @@ impl WheelRail {
             ("wheel_radius", self.wheel_radius),
             ("car_length", self.car_length),
         ];
+        if self.track_stiffness.is_nan() || self.track_stiffness <= 0.0 {
+            return Err(Error::invalid(
+                "wheel_rail.track_stiffness",
+                format!(
+                    "must be > 0 (infinite: no track), got {}",
+                    self.track_stiffness
+                ),
+            ));
+        }
         for (key, v) in positive {
             if !(v.is_finite() && v > 0.0) {
                 return Err(Error::invalid(
@@ -238,6 +275,7 @@ impl WheelRail {
                     dof_z: 9 + 2 * a + s,
                     p0: 0.0,
                     k_h: 0.0,
+                    k: 0.0,
                 });
             }
         }
@@ -259,6 +297,7 @@ impl WheelRail {
         for (c, p0) in car.contacts.iter_mut().zip(loads) {
             c.p0 = p0;
             c.k_h = hertz_stiffness(p0, self.wheel_radius);
+            c.k = series(c.k_h, self.track_stiffness);
         }
         Ok(car)
     }

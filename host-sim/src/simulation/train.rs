@@ -69,7 +69,7 @@ impl TrainState {
 
     /// Solves every car for the wheel forces `(Δf_z, f_y)` (`G − p0` and the guidance
     /// force), one entry per magnet wheel of the train in order, and the contacts' forcing
-    /// `contact` (N, one per contact: `k_h·(z_g − r_z)` plus any loss-of-contact correction,
+    /// `contact` (N, one per contact: `k·(z_g − r_z)` plus any loss-of-contact correction,
     /// docs/cars.md "Wheel–rail contact").
     pub fn solve(&mut self, train: &Train, forces: &[(f64, f64)], contact: &[f64]) {
         for c in &mut self.cars {
