@@ -460,6 +460,17 @@ mod tests {
             .unwrap_err()
             .contains("no gaps"));
         assert!(parse("car1.body.z", &forces).is_err());
+        assert_eq!(
+            parse("pier20.base.az", &E),
+            Ok(Probe::Pier {
+                pier: 19,
+                q: PierQ::Az
+            })
+        );
+        assert!(parse("pier0.base.z", &E).unwrap_err().contains("from 1"));
+        assert!(parse("pier2.base.y", &E)
+            .unwrap_err()
+            .contains("unknown probe"));
         assert!(Probes::new(Some(&[]), &E).is_err());
         assert_eq!(Probes::new(None, &E).unwrap().names.len(), DEFAULT.len());
     }

@@ -9,6 +9,10 @@
 //! gives. The magnets restart from their committed state at every iteration and commit only on
 //! convergence. The iteration count of each step is recorded (Fig. 5).
 //!
+//! Wheel–rail contacts (Hertz springs, docs/cars.md "Wheel–rail contact") ride in the same
+//! loop: their springs are implicit in the cars, the rail's motion is their forcing, and the
+//! iteration runs until that motion agrees too.
+//!
 //! Two kinds of magnets plug into the loop: [`magnets::CoreMagnets`], the core's controllers
 //! in f64 with exact gaps (both laws; `maglev run`), and `hil::coupling::FirmwareMagnets`,
 //! the firmware behind a link with sampled, quantised gaps (`maglev hil`). One loop means the
