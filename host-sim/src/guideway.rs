@@ -112,6 +112,18 @@ pub struct SectionMotion {
     pub rx: f64,
 }
 
+/// Motion of a pier's base node (the footing), on the committed state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BaseMotion {
+    /// Displacement, velocity, acceleration in Z (m, m/s, m/s²).
+    pub z: f64,
+    pub vz: f64,
+    pub az: f64,
+    /// Displacement and acceleration in Y.
+    pub y: f64,
+    pub ay: f64,
+}
+
 /// A guideway advanced by Newmark (γ = ½, β = ¼) with a fixed step.
 ///
 /// Protocol per time step: call [`Guideway::solve_step`] once per Newton–Raphson iteration with
@@ -129,4 +141,10 @@ pub trait Guideway {
     fn section_at(&self, x: f64) -> SectionMotion;
     /// Accept the trial state as the state at `t + dt`.
     fn commit(&mut self);
+    /// Motion of pier `k`'s base (1-based, pier 1 at x = 0) on the committed state, for the
+    /// `pier{K}.base` probes; `None` for a guideway without piers (the default) or no such
+    /// pier. The coupling loop never calls it, so it needs no knowledge of the guideway type.
+    fn pier_base(&self, _k: usize) -> Option<BaseMotion> {
+        None
+    }
 }

@@ -9,14 +9,23 @@
 //! - `wheel{N}.{y,z,gap_y,gap_z,force_z}`: wheel N's displacements (m), its guidance gap
 //!   `gap_y` (the left magnet's, h0 + d, docs/model.md §2) and levitation gap `gap_z` (m), and
 //!   its levitation force (N, up); for a `forces` train, load N's point of the guideway and
-//!   its force (no gaps);
-//! - `car{N}.body.{z,az}`: car N's body heave (m) and vertical acceleration (m/s²).
+//!   its force (no gaps). Wheels are numbered along the train, car by car
+//!   ([`crate::vehicle::Train::nodes`]); a wheel–rail car's wheels are its Hertz contacts:
+//!   `z` the wheel's displacement, `force_z` the contact force (N, compressive, i.e. the rail
+//!   pushing the wheel up — the same "up on the wheel" as a magnet's force; zero once the
+//!   wheel has lifted off), no `y` and no gaps (empty cells);
+//! - `car{N}.body.{z,az}`: car N's body heave (m) and vertical acceleration (m/s²), at the
+//!   body's centre of mass (the carriage centre) for every car kind;
+//! - `pier{K}.base.{z,az}`: the base (footing) of pier K (from 1, at x = 0) of a guideway with
+//!   piers ([`Guideway::pier_base`]), m and m/s². The case's extent does not know the piers:
+//!   [`Probes::check_guideway`] checks them against the guideway before the run.
 //!
 //! Today's default columns keep their names (`midspan_z` is `span1.midspan.z`, `wheel1_gap_z`
 //! is `wheel1.gap_z`, …). Every probe is checked against the case before the run starts.
 
 use crate::guideway::Guideway;
 use crate::simulation::magnet_gaps;
+use crate::vehicle::Node;
 use std::io::Write;
 
 /// The columns of a run without `[output] probes`.
@@ -55,12 +64,33 @@ pub enum BodyQ {
     Az,
 }
 
+/// A quantity of a pier's base: vertical displacement and acceleration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PierQ {
+    Z,
+    Az,
+}
+
 /// One probe (indices from 0).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Probe {
-    Midspan { span: usize, q: SectionQ },
-    Wheel { wheel: usize, q: WheelQ },
-    Body { car: usize, q: BodyQ },
+    Midspan {
+        span: usize,
+        q: SectionQ,
+    },
+    Wheel {
+        wheel: usize,
+        q: WheelQ,
+    },
+    Body {
+        car: usize,
+        q: BodyQ,
+    },
+    /// Pier `pier + 1` (the guideway's 1-based numbering).
+    Pier {
+        pier: usize,
+        q: PierQ,
+    },
 }
 
 /// What the case offers to probe.
@@ -102,7 +132,7 @@ pub fn parse(name: &str, e: &Extent) -> Result<Probe, String> {
     let parts: Vec<&str> = alias.split('.').collect();
     let bad = || {
         format!(
-            "output.probes: unknown probe `{name}` (span{{K}}.midspan.{{y,z,rx}}, wheel{{N}}.{{y,z,gap_y,gap_z,force_z}}, car{{N}}.body.{{z,az}})"
+            "output.probes: unknown probe `{name}` (span{{K}}.midspan.{{y,z,rx}}, wheel{{N}}.{{y,z,gap_y,gap_z,force_z}}, car{{N}}.body.{{z,az}}, pier{{K}}.base.{{z,az}})"
         )
     };
     match parts.as_slice() {
@@ -148,6 +178,17 @@ pub fn parse(name: &str, e: &Extent) -> Result<Probe, String> {
                 q,
             })
         }
+        [p, "base", q] if p.starts_with("pier") => {
+            let q = match *q {
+                "z" => PierQ::Z,
+                "az" => PierQ::Az,
+                _ => return Err(bad()),
+            };
+            Ok(Probe::Pier {
+                pier: index(p, "pier", name, usize::MAX)?,
+                q,
+            })
+        }
         _ => Err(bad()),
     }
 }
@@ -181,6 +222,22 @@ impl Probes {
         }
         Ok(Probes { names, probes })
     }
+
+    /// Checks the probes that only the guideway can answer (`pier{K}`) against it: one
+    /// line naming the probe and the limit.
+    pub fn check_guideway(&self, g: &dyn Guideway) -> Result<(), String> {
+        for (name, p) in self.names.iter().zip(&self.probes) {
+            if let Probe::Pier { pier, .. } = *p {
+                if g.pier_base(pier + 1).is_none() {
+                    let n = (1..=pier).take_while(|&k| g.pier_base(k).is_some()).count();
+                    return Err(format!(
+                        "output.probes: `{name}`: the guideway has {n} pier(s), so K is at most {n}"
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The wheels of a step as the probes see them.
@@ -196,6 +253,11 @@ pub enum Wheels<'a> {
         h0: f64,
         /// The body's heave DOF of each car.
         body_z: &'a [usize],
+        /// Every guideway node in probe order (`wheel{N}`).
+        nodes: &'a [Node],
+        /// Each wheel–rail contact's Z DOF and its force (N, compressive).
+        contact_dofs: &'a [usize],
+        contact_forces: &'a [f64],
     },
     /// Moving forces: each load's position and force.
     Forces {
@@ -234,17 +296,27 @@ impl StepView<'_> {
                     gaps,
                     forces,
                     h0,
+                    nodes,
+                    contact_dofs,
+                    contact_forces,
                     ..
-                } => {
-                    let (dy, dz) = dofs[wheel];
-                    match q {
-                        WheelQ::Y => u[dy],
-                        WheelQ::Z => u[dz],
-                        WheelQ::GapY => magnet_gaps(gaps[wheel], *h0)[1],
-                        WheelQ::GapZ => gaps[wheel].0,
-                        WheelQ::ForceZ => forces[wheel].0,
+                } => match nodes[wheel] {
+                    Node::Magnet(i) => {
+                        let (dy, dz) = dofs[i];
+                        match q {
+                            WheelQ::Y => u[dy],
+                            WheelQ::Z => u[dz],
+                            WheelQ::GapY => magnet_gaps(gaps[i], *h0)[1],
+                            WheelQ::GapZ => gaps[i].0,
+                            WheelQ::ForceZ => forces[i].0,
+                        }
                     }
-                }
+                    Node::Contact(i) => match q {
+                        WheelQ::Z => u[contact_dofs[i]],
+                        WheelQ::ForceZ => contact_forces[i],
+                        WheelQ::Y | WheelQ::GapY | WheelQ::GapZ => f64::NAN,
+                    },
+                },
                 Wheels::Forces { points, forces } => {
                     let (x, ey, ez) = points[wheel];
                     match q {
@@ -261,6 +333,13 @@ impl StepView<'_> {
                     BodyQ::Az => a[body_z[car]],
                 },
                 Wheels::Forces { .. } => f64::NAN,
+            },
+            Probe::Pier { pier, q } => match self.guideway.pier_base(pier + 1) {
+                Some(b) => match q {
+                    PierQ::Z => b.z,
+                    PierQ::Az => b.az,
+                },
+                None => f64::NAN,
             },
         }
     }
@@ -411,6 +490,17 @@ mod tests {
             .unwrap_err()
             .contains("no gaps"));
         assert!(parse("car1.body.z", &forces).is_err());
+        assert_eq!(
+            parse("pier20.base.az", &E),
+            Ok(Probe::Pier {
+                pier: 19,
+                q: PierQ::Az
+            })
+        );
+        assert!(parse("pier0.base.z", &E).unwrap_err().contains("from 1"));
+        assert!(parse("pier2.base.y", &E)
+            .unwrap_err()
+            .contains("unknown probe"));
         assert!(Probes::new(Some(&[]), &E).is_err());
         assert_eq!(Probes::new(None, &E).unwrap().names.len(), DEFAULT.len());
     }

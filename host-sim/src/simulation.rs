@@ -9,6 +9,10 @@
 //! gives. The magnets restart from their committed state at every iteration and commit only on
 //! convergence. The iteration count of each step is recorded (Fig. 5).
 //!
+//! Wheel–rail contacts (Hertz springs, docs/cars.md "Wheel–rail contact") ride in the same
+//! loop: their springs are implicit in the cars, the rail's motion is their forcing, and the
+//! iteration runs until that motion agrees too.
+//!
 //! Two kinds of magnets plug into the loop: [`magnets::CoreMagnets`], the core's controllers
 //! in f64 with exact gaps (both laws; `maglev run`), and `hil::coupling::FirmwareMagnets`,
 //! the firmware behind a link with sampled, quantised gaps (`maglev hil`). One loop means the
@@ -19,7 +23,7 @@ pub mod train;
 
 use crate::guideway::{Guideway, PointLoad, SectionMotion};
 use crate::probes::{Recorder, StepView, Wheels};
-use crate::vehicle::Train;
+use crate::vehicle::{Node, Train};
 use crate::{Error, Result};
 use maglev_core::gap::{self, Geometry};
 use maglev_core::gap_control::GapParams;
@@ -50,8 +54,8 @@ pub enum Load {
     /// moving force of the verification case); no controller, no irregularity. Record
     /// "wheel 1" is the first load.
     Forces(Vec<MovingLoad>),
-    /// A maglev train (one car or more) with one levitation magnet and one guidance pair per
-    /// wheel.
+    /// A train (one car or more): one levitation magnet and one guidance pair per maglev
+    /// wheel, one Hertz spring per wheel–rail contact.
     Vehicle(Train),
 }
 
@@ -142,6 +146,10 @@ pub struct Outcome {
     pub collision_steps: usize,
     /// Each magnet's gap range over the run (empty for a moving force).
     pub gap_ranges: GapRanges,
+    /// Steps in which some wheel–rail contact lifted off (its force clamped at zero).
+    pub contact_loss_steps: usize,
+    /// Each contact's force range `(min, max)` (N, compressive) over the run, clamped.
+    pub contact_ranges: Vec<(f64, f64)>,
     /// The irregularity the run used, `[x, r_y, r_z]` (m) at every position a wheel occupied
     /// at a step, sorted by x, duplicates removed (empty for a moving force).
     pub profile: Vec<[f64; 3]>,
@@ -273,6 +281,8 @@ pub fn simulate<G: Guideway>(
                 unconverged_steps: 0,
                 collision_steps: 0,
                 gap_ranges: Vec::new(),
+                contact_loss_steps: 0,
+                contact_ranges: Vec::new(),
                 profile: Vec::new(),
             })
         }
@@ -284,7 +294,11 @@ pub fn simulate<G: Guideway>(
     }
 }
 
-/// The coupling loop of a train with `magnets` over `guideway` (module docs).
+/// The coupling loop of a train with `magnets` over `guideway` (module docs). Wheel–rail
+/// contacts join the same loop (docs/cars.md "Wheel–rail contact"): their Hertz springs are
+/// in the cars' matrices, the rail's motion enters the car as the forcing `k_h·(z_g − r_z)`,
+/// and the guideway receives the contact forces; the iteration also runs until the rail's
+/// motion under every contact agrees between two iterations.
 pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     guideway: &mut G,
     v: &Train,
@@ -300,27 +314,28 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             "internal: guideway step differs from the run's step",
         ));
     }
+    if v.nodes.is_empty() {
+        return Err(Error::invalid(
+            "train",
+            "has no magnet and no wheel to meet the guideway",
+        ));
+    }
     let h0 = s.controller.h0;
     let steps = (s.t_end / dt).round() as usize;
     let nw = v.wheels.len();
+    let nc = v.contacts.len();
     let mut gaps_prev = initial_gaps(v, profiles, h0);
     let mut ranges: GapRanges = gaps_prev
         .iter()
         .map(|&g| magnet_gaps(g, h0).map(|h| (h, h)))
         .collect();
+    let mut contact_ranges: Vec<(f64, f64)> = v.contacts.iter().map(|c| (c.p0, c.p0)).collect();
     let mut collision_steps = 0;
-    let mut profile: Vec<[f64; 3]> = Vec::with_capacity((steps + 1) * nw);
-    for w in &v.wheels {
-        profile.push([w.x0, (profiles.y)(w.x0), (profiles.z)(w.x0)]);
+    let mut contact_loss_steps = 0;
+    let mut profile: Vec<[f64; 3]> = Vec::with_capacity((steps + 1) * v.nodes.len());
+    for x0 in v.node_x0() {
+        profile.push([x0, (profiles.y)(x0), (profiles.z)(x0)]);
     }
-    let mut records = Vec::with_capacity(steps + 1);
-    records.push(Record {
-        midspan: guideway.section_at(s.midspan_x),
-        wheel1_gap_z: gaps_prev[0].0,
-        wheel1_force_z: v.p0[0],
-        ..Record::default()
-    });
-    let mut unconverged = 0;
     let mut veh = TrainState::new(v, dt)?;
     // Train-wide DOF indices for the probes (cars concatenated in order).
     let dofs: Vec<(usize, usize)> = v
@@ -328,11 +343,46 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
         .iter()
         .map(|w| (veh.global(w.car, w.dof_y), veh.global(w.car, w.dof_z)))
         .collect();
+    let contact_dofs: Vec<usize> = v
+        .contacts
+        .iter()
+        .map(|c| veh.global(c.car, c.dof_z))
+        .collect();
     let body_z: Vec<usize> = (0..v.cars.len())
         .map(|c| veh.global(c, v.cars[c].body_z))
         .collect();
     // The static forces at t = 0; every iteration overwrites them.
     let mut forces: Vec<(f64, f64)> = v.p0.iter().map(|&p0| (p0, 0.0)).collect();
+    let mut contact_p: Vec<f64> = v.contacts.iter().map(|c| c.p0).collect();
+    let first =
+        |forces: &[(f64, f64)], contact_p: &[f64], gaps: &[WheelGaps], veh: &TrainState| match v
+            .nodes[0]
+        {
+            Node::Magnet(i) => {
+                let w = &v.wheels[i];
+                (
+                    veh.u(w.car, w.dof_y),
+                    veh.u(w.car, w.dof_z),
+                    gaps[i].0,
+                    forces[i].0,
+                )
+            }
+            Node::Contact(i) => {
+                let c = &v.contacts[i];
+                (f64::NAN, veh.u(c.car, c.dof_z), f64::NAN, contact_p[i])
+            }
+        };
+    let mut records = Vec::with_capacity(steps + 1);
+    {
+        let (_, _, gap_z, force_z) = first(&forces, &contact_p, &gaps_prev, &veh);
+        records.push(Record {
+            midspan: guideway.section_at(s.midspan_x),
+            wheel1_gap_z: gap_z,
+            wheel1_force_z: force_z,
+            ..Record::default()
+        });
+    }
+    let mut unconverged = 0;
     rec.record(&StepView {
         t: 0.0,
         guideway: &*guideway,
@@ -345,16 +395,24 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             forces: &forces,
             h0,
             body_z: &body_z,
+            nodes: &v.nodes,
+            contact_dofs: &contact_dofs,
+            contact_forces: &contact_p,
         },
         iterations: 0,
         collision: false,
     })
     .lift()?;
     let mut f = vec![(0.0, 0.0); nw];
-    let mut loads = vec![PointLoad::default(); nw];
+    let mut loads = vec![PointLoad::default(); nw + nc];
     let mut gaps_used = vec![(0.0, 0.0); nw];
     let mut current = vec![(0.0, 0.0); nw];
     let (mut xs, mut ry, mut rz) = (vec![0.0; nw], vec![0.0; nw], vec![0.0; nw]);
+    // Contacts: position, irregularity, the rail's motion under them (current iterate and the
+    // one the car was solved with), the car-side forcing and the loss-of-contact correction.
+    let (mut cx, mut crz) = (vec![0.0; nc], vec![0.0; nc]);
+    let (mut zg, mut zg_used) = (vec![0.0; nc], vec![0.0; nc]);
+    let (mut fc, mut lift, mut lift_used) = (vec![0.0; nc], vec![0.0; nc], vec![0.0; nc]);
     for n in 1..=steps {
         let t = n as f64 * dt;
         let step = n as u32;
@@ -363,6 +421,11 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             rz[i] = (profiles.z)(xs[i]);
             ry[i] = (profiles.y)(xs[i]);
             profile.push([xs[i], ry[i], rz[i]]);
+        }
+        for (j, c) in v.contacts.iter().enumerate() {
+            cx[j] = c.x0 + s.speed * t;
+            crz[j] = (profiles.z)(cx[j]);
+            profile.push([cx[j], (profiles.y)(cx[j]), crz[j]]);
         }
         // Gaps at t from a displacement estimate (the committed state on the first pass).
         let gaps = |trial: bool, veh: &TrainState, gw: &G, out: &mut [WheelGaps]| {
@@ -379,8 +442,16 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
                 );
             }
         };
+        let rail = |gw: &G, out: &mut [f64]| {
+            for (j, c) in v.contacts.iter().enumerate() {
+                out[j] = gw.motion_at(cx[j], c.ey, c.ez).z;
+            }
+        };
         gaps(false, &veh, guideway, &mut current);
+        rail(guideway, &mut zg);
+        lift.fill(0.0);
         let mut iterations = 0;
+        let mut lost;
         loop {
             iterations += 1;
             magnets
@@ -397,16 +468,46 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
                     fz: -gz,
                 };
             }
+            // The car sees the rail's motion of this iterate (and the lift-off correction of
+            // the last one); its contact forces follow from its solution.
+            for (j, c) in v.contacts.iter().enumerate() {
+                fc[j] = c.k * (zg[j] - crz[j]) + lift[j];
+            }
+            veh.solve(v, &f, &fc);
+            zg_used.copy_from_slice(&zg);
+            lift_used.copy_from_slice(&lift);
+            lost = false;
+            for (j, c) in v.contacts.iter().enumerate() {
+                let p = contact_force(c.p0, c.k, veh.u1(c.car, c.dof_z), zg[j], crz[j]);
+                lift[j] = (-p).max(0.0);
+                lost |= p < 0.0;
+                contact_p[j] = p.max(0.0);
+                loads[nw + j] = PointLoad {
+                    x: cx[j],
+                    ey: c.ey,
+                    ez: c.ez,
+                    fy: 0.0,
+                    fz: -contact_p[j],
+                };
+            }
             guideway.solve_step(&loads);
-            veh.solve(v, &f);
             gaps_used.copy_from_slice(&current);
             gaps(true, &veh, guideway, &mut current);
+            rail(guideway, &mut zg);
             let change = current
                 .iter()
                 .zip(&gaps_used)
                 .map(|(a, b)| (a.0 - b.0).abs().max((a.1 - b.1).abs()))
                 .fold(0.0, f64::max);
-            if change <= s.tolerance {
+            let change_c = (0..nc)
+                .map(|j| {
+                    let k_h = v.contacts[j].k;
+                    (zg[j] - zg_used[j])
+                        .abs()
+                        .max((lift[j] - lift_used[j]).abs() / k_h)
+                })
+                .fold(0.0, f64::max);
+            if change.max(change_c) <= s.tolerance {
                 break;
             }
             if iterations >= s.max_iterations {
@@ -425,7 +526,11 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
                 collision |= h <= 0.0;
             }
         }
+        for (r, &p) in contact_ranges.iter_mut().zip(&contact_p) {
+            *r = (r.0.min(p), r.1.max(p));
+        }
         collision_steps += usize::from(collision);
+        contact_loss_steps += usize::from(lost);
         rec.record(&StepView {
             t,
             guideway: &*guideway,
@@ -438,19 +543,23 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
                 forces: &forces,
                 h0,
                 body_z: &body_z,
+                nodes: &v.nodes,
+                contact_dofs: &contact_dofs,
+                contact_forces: &contact_p,
             },
             iterations,
             collision,
         })
         .lift()?;
-        let w1 = &v.wheels[0];
+        let (wheel1_y, wheel1_z, wheel1_gap_z, wheel1_force_z) =
+            first(&forces, &contact_p, &gaps_used, &veh);
         records.push(Record {
             t,
             midspan: guideway.section_at(s.midspan_x),
-            wheel1_y: veh.u(w1.car, w1.dof_y),
-            wheel1_z: veh.u(w1.car, w1.dof_z),
-            wheel1_gap_z: gaps_used[0].0,
-            wheel1_force_z: forces[0].0,
+            wheel1_y,
+            wheel1_z,
+            wheel1_gap_z,
+            wheel1_force_z,
             iterations,
             status: magnets.status(),
             collision,
@@ -466,6 +575,16 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
         unconverged_steps: unconverged,
         collision_steps,
         gap_ranges: ranges,
+        contact_loss_steps,
+        contact_ranges,
         profile,
     })
+}
+
+/// The linearised contact force (N, compressive positive; docs/cars.md "Wheel–rail
+/// contact"): `P = P0 − k·(z_w − z_g + r_z)`, k the contact spring ([`crate::vehicle::Contact::k`]), with z_w the wheel's and z_g the rail point's
+/// displacement (m, up) and r_z the irregularity (m; r_z > 0 opens the gap, as in Eq. 2).
+/// Negative means the wheel has lifted off: the caller clamps it at zero.
+pub fn contact_force(p0: f64, k: f64, z_w: f64, z_g: f64, r_z: f64) -> f64 {
+    p0 - k * (z_w - z_g + r_z)
 }

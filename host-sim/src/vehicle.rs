@@ -11,7 +11,15 @@
 //! A [`Train`] is a list of cars, each its own small [`VehicleModel`] (docs/model.md §10): the
 //! cars share no spring, so the train's matrices are block-diagonal and each car is advanced
 //! by its own prefactored Newmark solve; no matrix is ever assembled over the whole train.
+//! One type serves every kind of car ([`CarKind`]): the Fig. 1 car (here), the Fig. 6
+//! maglev carriage and the wheel/rail car (`crate::cars`). A car meets the guideway through
+//! maglev [`Wheel`]s (magnets, with their p0) and wheel–rail [`Contact`]s (Hertz springs,
+//! with their P0); both loads come from the one static solution of
+//! [`VehicleModel::static_loads`].
 
+use crate::cars::fig6::Fig6;
+use crate::cars::link::static_solution;
+use crate::cars::wheel_rail::WheelRail;
 use crate::{Error, Result};
 use nalgebra::{DMatrix, DVector};
 
@@ -27,6 +35,28 @@ pub struct Wheel {
     /// Index of its Y and Z DOFs in the vehicle system.
     pub dof_y: usize,
     pub dof_z: usize,
+}
+
+/// A wheel–rail contact: a linearised Hertz spring between the wheel DOF `dof_z` and the rail
+/// target point at (x_w, ey, ez) (docs/model.md §5 rigid link; the contact law, its sign
+/// convention and its coupling: docs/cars.md "Wheel–rail contact").
+#[derive(Clone, Debug, PartialEq)]
+pub struct Contact {
+    /// X position at t = 0 (m), the leading contact of the car at 0.
+    pub x0: f64,
+    /// Offset of the rail target point from the beam axis, Y and Z (m).
+    pub ey: f64,
+    pub ez: f64,
+    /// The wheel's vertical DOF in the car (its own DOF, coefficient 1).
+    pub dof_z: usize,
+    /// Static wheel load P0 (N, compressive), from the car's exact statics.
+    pub p0: f64,
+    /// Linearised Hertz stiffness at P0 (N/m), `cars::wheel_rail::hertz_stiffness`.
+    pub k_h: f64,
+    /// The contact spring between the wheel and the girder's rail point (N/m): the Hertz
+    /// spring in series with the track (rail on its pads), `cars::wheel_rail::series`. The
+    /// coupling and [`VehicleModel::k_on_rigid_rail`] use this one.
+    pub k: f64,
 }
 
 /// Parameters of the Fig. 1 vehicle (SI), defaults from docs/model.md §9.
@@ -76,18 +106,30 @@ impl Default for Fig1 {
     }
 }
 
-/// One car: mass, damping and stiffness (its own small dense matrices) and its wheels.
+/// One car of any kind: mass, damping and stiffness (its own small dense matrices, in
+/// deviations from its static equilibrium) and the nodes through which it meets the
+/// guideway — maglev wheels, wheel–rail contacts, or (in principle) both.
 #[derive(Clone, Debug)]
 pub struct VehicleModel {
     pub m: DMatrix<f64>,
     pub c: DMatrix<f64>,
+    /// Stiffness of the car's own springs (no contact spring: see [`Self::k_on_rigid_rail`]).
     pub k: DMatrix<f64>,
-    /// The car's wheels, DOFs local to this car.
+    /// The car's maglev wheels, DOFs local to this car (empty for a wheel/rail car).
     pub wheels: Vec<Wheel>,
     /// Static load per wheel (N, up): the magnet force of the car's static equilibrium.
     pub p0: Vec<f64>,
-    /// The body's heave DOF (the `car{N}.body` probes).
+    /// The car's wheel–rail contacts (empty for a maglev car).
+    pub contacts: Vec<Contact>,
+    /// The body's heave DOF (the `car{N}.body` probes): the body's centre of mass, at the
+    /// middle of the car.
     pub body_z: usize,
+    /// The body's pitch (θy) DOF.
+    pub body_pitch: usize,
+    /// The car's own pitch along a train (m): the next car's leading node this far behind.
+    pub length: f64,
+    /// Total weight (N): the sum of the static loads.
+    pub weight: f64,
 }
 
 /// Body DOFs: v, w, θx, θy, θz (u along X carries no force and is left out).
@@ -187,41 +229,52 @@ impl VehicleModel {
             k,
             wheels,
             p0: Vec::new(),
+            contacts: Vec::new(),
             body_z: BODY_W,
+            body_pitch: BODY_RY,
+            length: 2.0 * p.half_length,
+            weight: p.body_mass * gravity,
         };
-        v.p0 = v.static_wheel_loads(&weight)?;
+        (v.p0, _) = v.static_loads(&weight)?;
         Ok(v)
     }
 
-    /// The magnet force (N, up) each wheel node needs for static equilibrium under the load
-    /// `weight` (N per DOF; gravity on the bodies), the wheel nodes held at their targets:
-    /// with f the free (non-wheel) DOFs, `K_ff u_f = weight_f` and the wheel rows give the
-    /// magnet forces `K_wf u_f − weight_w`. The vertical ones are the p0; a lateral one
-    /// would need a guidance preload the model does not have, so it is refused.
-    pub fn static_wheel_loads(&self, weight: &DVector<f64>) -> Result<Vec<f64>> {
-        let n = self.k.nrows();
-        let held: Vec<usize> = self
+    /// The stiffness with every contact spring tied to a fixed, smooth rail (`k` on each
+    /// contact DOF): the car on a rigid rail, and the matrix the coupling integrates (the
+    /// contact springs are implicit on the car's side, docs/cars.md). For a maglev car, `k`.
+    pub fn k_on_rigid_rail(&self) -> DMatrix<f64> {
+        let mut k = self.k.clone();
+        for c in &self.contacts {
+            k[(c.dof_z, c.dof_z)] += c.k;
+        }
+        k
+    }
+
+    /// The DOFs of the guideway nodes (wheels' Y and Z, contacts' Z), the ones the static
+    /// solution holds.
+    pub fn node_dofs(&self) -> Vec<usize> {
+        let mut d: Vec<usize> = self
             .wheels
             .iter()
             .flat_map(|w| [w.dof_y, w.dof_z])
             .collect();
-        let free: Vec<usize> = (0..n).filter(|i| !held.contains(i)).collect();
-        let kff = DMatrix::from_fn(free.len(), free.len(), |i, j| self.k[(free[i], free[j])]);
-        let wf = DVector::from_fn(free.len(), |i, _| weight[free[i]]);
-        let uf = kff.lu().solve(&wf).ok_or_else(|| {
-            Error::numerical("vehicle: the body is not held by its springs (singular statics)")
-        })?;
-        let reaction = |dof: usize| -> f64 {
-            free.iter()
-                .zip(uf.iter())
-                .map(|(&j, &u)| self.k[(dof, j)] * u)
-                .sum::<f64>()
-                - weight[dof]
-        };
+        d.extend(self.contacts.iter().map(|c| c.dof_z));
+        d
+    }
+
+    /// The static load of every guideway node under the load `weight` (N per DOF; gravity on
+    /// the bodies), the nodes held at their targets — the one static solution of every car
+    /// kind ([`static_solution`]: `K_ff u_f = weight_f`, the reactions `(K u)_h − weight_h`).
+    /// Returns the magnets' forces (N, up; the p0) and the contacts' loads (N, compressive;
+    /// the P0), both in node order. A lateral reaction at a magnet would need a guidance
+    /// preload the model does not have, so it is refused; a load that is not positive too
+    /// (a magnet only pulls, a wheel only pushes).
+    pub fn static_loads(&self, weight: &DVector<f64>) -> Result<(Vec<f64>, Vec<f64>)> {
+        let (_, r) = static_solution(&self.k, weight, &self.node_dofs())?;
         let total: f64 = weight.iter().map(|w| w.abs()).sum();
         let mut p0 = Vec::with_capacity(self.wheels.len());
         for (i, w) in self.wheels.iter().enumerate() {
-            let fy = reaction(w.dof_y);
+            let fy = r[w.dof_y];
             if fy.abs() > 1e-9 * total {
                 return Err(Error::invalid(
                     "vehicle",
@@ -231,7 +284,7 @@ impl VehicleModel {
                     ),
                 ));
             }
-            let fz = reaction(w.dof_z);
+            let fz = r[w.dof_z];
             if !(fz.is_finite() && fz > 0.0) {
                 return Err(Error::invalid(
                     "vehicle",
@@ -243,27 +296,51 @@ impl VehicleModel {
             }
             p0.push(fz);
         }
-        Ok(p0)
+        let mut contact = Vec::with_capacity(self.contacts.len());
+        for (i, c) in self.contacts.iter().enumerate() {
+            let fz = r[c.dof_z];
+            if !(fz.is_finite() && fz > 0.0) {
+                return Err(Error::invalid(
+                    "vehicle",
+                    format!(
+                        "contact {} static load {fz:.3e} N: must be positive (a wheel only pushes on its rail)",
+                        i + 1
+                    ),
+                ));
+            }
+            contact.push(fz);
+        }
+        Ok((p0, contact))
     }
 }
 
-/// A car of a train: its kind and where it runs.
-///
-/// Only the Fig. 1 car exists today; the Fig. 6 maglev carriage (four bogies of four magnets
-/// a side at 1.5625 m, bodies and bogies joined by springs) and a wheel/rail car are further
-/// kinds of the same list: each builds its own [`VehicleModel`] and gets its p0 from
-/// [`VehicleModel::static_wheel_loads`].
+/// A car of a train: its kind and its parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CarKind {
     /// The Fig. 1 car (docs/model.md §9).
     Fig1(Fig1),
+    /// The Fig. 6 maglev carriage: 32 magnet wheels (docs/cars.md).
+    Fig6Maglev(Fig6),
+    /// The wheel/rail comparison car: 8 Hertz contacts (docs/cars.md).
+    WheelRail(WheelRail),
+}
+
+impl CarKind {
+    /// Builds the car under `gravity`, its leading node at x = 0.
+    pub fn build(&self, gravity: f64) -> Result<VehicleModel> {
+        match self {
+            CarKind::Fig1(p) => VehicleModel::fig1(p, gravity),
+            CarKind::Fig6Maglev(p) => p.build(gravity),
+            CarKind::WheelRail(p) => p.build(gravity),
+        }
+    }
 }
 
 /// One car of a train specification.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CarSpec {
     pub kind: CarKind,
-    /// Distance of the car's leading wheel behind the train's leading wheel (m, ≥ 0).
+    /// Distance of the car's leading node behind the train's leading node (m, ≥ 0).
     pub offset: f64,
 }
 
@@ -280,16 +357,44 @@ pub struct TrainWheel {
     pub dof_z: usize,
 }
 
-/// A train: cars one behind the other, block-diagonal (module docs). Wheels and cars are
-/// numbered along the train from the front (car 1's wheels first), for the probes.
+/// A wheel–rail contact of a train: which car carries it, and the car's contact.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrainContact {
+    pub car: usize,
+    /// X at t = 0 (m), along the train.
+    pub x0: f64,
+    pub ey: f64,
+    pub ez: f64,
+    /// The wheel's Z DOF in its car.
+    pub dof_z: usize,
+    /// Static load (N, compressive) and the contact spring (N/m, [`Contact::k`]).
+    pub p0: f64,
+    pub k: f64,
+}
+
+/// A guideway node of a train as the probes number them (`wheel{N}`): a magnet wheel (index
+/// into [`Train::wheels`]) or a wheel–rail contact (index into [`Train::contacts`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Node {
+    Magnet(usize),
+    Contact(usize),
+}
+
+/// A train: cars one behind the other, block-diagonal (module docs). Cars and their guideway
+/// nodes are numbered along the train from the front (car 1's nodes first, each car's magnets
+/// before its contacts), for the probes.
 #[derive(Clone, Debug)]
 pub struct Train {
-    /// Each car's model, its wheels' `x0` along the train.
+    /// Each car's model, its nodes' `x0` along the train.
     pub cars: Vec<VehicleModel>,
-    /// Every wheel of the train, in order.
+    /// Every magnet wheel of the train, in order.
     pub wheels: Vec<TrainWheel>,
-    /// Each wheel's static load (N), in the same order.
+    /// Each magnet wheel's static load (N), in the same order.
     pub p0: Vec<f64>,
+    /// Every wheel–rail contact of the train, in order.
+    pub contacts: Vec<TrainContact>,
+    /// Every guideway node in probe order (`wheel{N}` is `nodes[N − 1]`).
+    pub nodes: Vec<Node>,
     /// Advance the cars on rayon's pool (off by default; see docs/performance.md).
     pub parallel: bool,
 }
@@ -306,39 +411,70 @@ impl Train {
                 return Err(Error::invalid(
                     format!("train car {}", i + 1),
                     format!(
-                        "offset must be zero or positive (behind the leading wheel), got {}",
+                        "offset must be zero or positive (behind the leading node), got {}",
                         s.offset
                     ),
                 ));
             }
-            let mut car = match &s.kind {
-                CarKind::Fig1(p) => VehicleModel::fig1(p, gravity)?,
-            };
+            let mut car = s.kind.build(gravity)?;
             for w in &mut car.wheels {
                 w.x0 -= s.offset;
+            }
+            for c in &mut car.contacts {
+                c.x0 -= s.offset;
             }
             cars.push(car);
         }
         Ok(Self::from_cars(cars))
     }
 
-    /// `n` identical Fig. 1 cars `spacing` apart (leading wheel to leading wheel).
-    pub fn fig1_repeated(p: &Fig1, n: usize, spacing: f64, gravity: f64) -> Result<Self> {
+    /// `n` identical cars of `kind`, `spacing` apart (leading node to leading node); the
+    /// train's leading node at x = 0 at t = 0.
+    pub fn repeated(kind: &CarKind, n: usize, spacing: f64, gravity: f64) -> Result<Self> {
+        if !(spacing.is_finite() && spacing > 0.0) && n > 1 {
+            return Err(Error::invalid(
+                "train.car_length_m",
+                format!("must be > 0, got {spacing}"),
+            ));
+        }
         let specs: Vec<CarSpec> = (0..n)
             .map(|i| CarSpec {
-                kind: CarKind::Fig1(p.clone()),
+                kind: kind.clone(),
                 offset: i as f64 * spacing,
             })
             .collect();
         Self::new(&specs, gravity)
     }
 
+    /// `n` identical Fig. 1 cars `spacing` apart (leading wheel to leading wheel).
+    pub fn fig1_repeated(p: &Fig1, n: usize, spacing: f64, gravity: f64) -> Result<Self> {
+        Self::repeated(&CarKind::Fig1(p.clone()), n, spacing, gravity)
+    }
+
+    /// `n` Fig. 6 maglev carriages (default parameters, docs/cars.md) at their own pitch,
+    /// 16 × 1.5625 = 25 m, so every magnet of the train keeps the equal 1.5625 m spacing.
+    pub fn fig6(n: usize, gravity: f64) -> Result<Self> {
+        let p = Fig6::default();
+        let pitch = p.car_pitch();
+        Self::repeated(&CarKind::Fig6Maglev(p), n, pitch, gravity)
+    }
+
+    /// `n` wheel/rail cars (default parameters, docs/cars.md) at their 25 m pitch.
+    pub fn wheel_rail(n: usize, gravity: f64) -> Result<Self> {
+        let p = WheelRail::default();
+        let pitch = p.car_length;
+        Self::repeated(&CarKind::WheelRail(p), n, pitch, gravity)
+    }
+
     /// A train of the given car models, as they are.
     pub fn from_cars(cars: Vec<VehicleModel>) -> Self {
         let mut wheels = Vec::new();
         let mut p0 = Vec::new();
+        let mut contacts = Vec::new();
+        let mut nodes = Vec::new();
         for (c, car) in cars.iter().enumerate() {
             for (w, &p) in car.wheels.iter().zip(&car.p0) {
+                nodes.push(Node::Magnet(wheels.len()));
                 wheels.push(TrainWheel {
                     car: c,
                     x0: w.x0,
@@ -349,13 +485,38 @@ impl Train {
                 });
                 p0.push(p);
             }
+            for k in &car.contacts {
+                nodes.push(Node::Contact(contacts.len()));
+                contacts.push(TrainContact {
+                    car: c,
+                    x0: k.x0,
+                    ey: k.ey,
+                    ez: k.ez,
+                    dof_z: k.dof_z,
+                    p0: k.p0,
+                    k: k.k,
+                });
+            }
         }
         Train {
             cars,
             wheels,
             p0,
+            contacts,
+            nodes,
             parallel: false,
         }
+    }
+
+    /// X at t = 0 of every guideway node, in probe order.
+    pub fn node_x0(&self) -> Vec<f64> {
+        self.nodes
+            .iter()
+            .map(|n| match *n {
+                Node::Magnet(i) => self.wheels[i].x0,
+                Node::Contact(i) => self.contacts[i].x0,
+            })
+            .collect()
     }
 }
 
@@ -478,5 +639,41 @@ mod tests {
             offset: f64::NAN,
         };
         assert!(Train::new(&[bad], 9.81).is_err());
+    }
+
+    #[test]
+    fn fig6_and_wheel_rail_trains_place_their_cars_25_m_apart_from_x_0() {
+        let t = Train::fig6(2, 9.81).unwrap();
+        assert_eq!((t.cars.len(), t.wheels.len(), t.contacts.len()), (2, 64, 0));
+        assert_eq!(t.wheels[0].x0, 0.0);
+        // The magnet positions of the whole train: equal 1.5625 m steps across the cars.
+        let mut xs: Vec<f64> = t.wheels.iter().map(|w| w.x0).collect();
+        xs.sort_by(|a, b| b.total_cmp(a));
+        xs.dedup();
+        assert_eq!(xs.len(), 32);
+        for (i, x) in xs.iter().enumerate() {
+            assert!((x + 1.5625 * i as f64).abs() < 1e-12, "{i}: {x}");
+        }
+        for i in 0..32 {
+            assert_eq!(t.wheels[32 + i].x0, t.wheels[i].x0 - 25.0);
+            assert_eq!(t.nodes[32 + i], Node::Magnet(32 + i));
+        }
+        let t = Train::wheel_rail(2, 9.81).unwrap();
+        assert_eq!(
+            (t.wheels.len(), t.contacts.len(), t.nodes.len()),
+            (0, 16, 16)
+        );
+        assert_eq!(t.contacts[0].x0, 0.0);
+        for i in 0..8 {
+            assert_eq!(t.contacts[8 + i].x0, t.contacts[i].x0 - 25.0);
+            assert_eq!(t.contacts[8 + i].car, 1);
+            assert_eq!(t.nodes[8 + i], Node::Contact(8 + i));
+        }
+        // Axles at 0, −2.5, −17.5, −20 m (bogie centres 17.5 m apart, wheelbase 2.5 m).
+        let axles: Vec<f64> = t.contacts[..8].iter().step_by(2).map(|c| c.x0).collect();
+        for (got, want) in axles.iter().zip([0.0, -2.5, -17.5, -20.0]) {
+            assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+        }
+        assert!(Train::repeated(&CarKind::WheelRail(WheelRail::default()), 2, 0.0, 9.81).is_err());
     }
 }

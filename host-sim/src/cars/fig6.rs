@@ -13,8 +13,8 @@
 //! the far one (Y = 3.25 m). Wheel 1 (n = 0) leads on the near line at x0 = 0, as in
 //! docs/model.md §9.
 
-use super::link::{add_spring_damper, static_solution, Axis, End, Rigid, RX, RY, RZ, UY, UZ};
-use super::{CarBlock, CarKind, Wheel};
+use super::link::{add_spring_damper, Axis, End, Rigid, RX, RY, RZ, UY, UZ};
+use super::{VehicleModel, Wheel};
 use crate::{Error, Result};
 use nalgebra::{DMatrix, DVector};
 
@@ -89,6 +89,12 @@ impl Fig6 {
     /// equal spacing.
     pub fn bogie_pitch(&self) -> f64 {
         PER_BOGIE as f64 * self.pitch
+    }
+
+    /// Carriage pitch along the train (m): 16 magnet pitches, 25 m by default, so that the
+    /// magnets of consecutive carriages keep the equal spacing.
+    pub fn car_pitch(&self) -> f64 {
+        (BOGIES * PER_BOGIE) as f64 * self.pitch
     }
 
     /// X of bogie b's centre from the body centre (front first).
@@ -177,7 +183,7 @@ impl Fig6 {
     }
 
     /// Builds the carriage (module docs), its static loads from its exact statics.
-    pub fn build(&self, gravity: f64) -> Result<CarBlock> {
+    pub fn build(&self, gravity: f64) -> Result<VehicleModel> {
         self.validate()?;
         let nw = 2 * BOGIES * PER_BOGIE;
         let n = 5 + 5 * BOGIES + 2 * nw;
@@ -226,34 +232,22 @@ impl Fig6 {
                 }
             }
         }
-        // Exact statics with every magnet node held: the reactions are the magnets' p0.
-        let held: Vec<usize> = wheels.iter().flat_map(|w| [w.dof_y, w.dof_z]).collect();
-        let (_, r) = static_solution(&k, &f, &held)?;
-        let p0: Vec<f64> = wheels.iter().map(|w| r[w.dof_z]).collect();
-        if let Some((i, p)) = p0
-            .iter()
-            .enumerate()
-            .find(|(_, p)| p.is_nan() || **p <= 0.0)
-        {
-            return Err(Error::numerical(format!(
-                "fig6: magnet {} carries no load in the static solution ({p} N)",
-                i + 1
-            )));
-        }
         let weight = gravity
             * (self.body_mass + BOGIES as f64 * self.bogie_mass + nw as f64 * self.magnet_mass);
-        Ok(CarBlock {
-            kind: CarKind::Fig6Maglev,
+        let mut car = VehicleModel {
             m,
             c,
             k,
             wheels,
-            p0,
+            p0: Vec::new(),
             contacts: Vec::new(),
             body_z: 1,
             body_pitch: 3,
-            length: (BOGIES * PER_BOGIE) as f64 * self.pitch,
+            length: self.car_pitch(),
             weight,
-        })
+        };
+        // Exact statics with every magnet node held: the reactions are the magnets' p0.
+        (car.p0, _) = car.static_loads(&f)?;
+        Ok(car)
     }
 }

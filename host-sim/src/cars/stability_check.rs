@@ -1,25 +1,15 @@
 //! The Fig. 6 carriage on a rigid rail under the paper's law: linearised with all its 32
 //! magnets (`stability::vehicle`, docs/model.md §2 item 3), it must be stable — the check the
-//! train's runs rely on. Written against today's `VehicleModel`; the train's per-car blocks
-//! can feed the same plant.
+//! train's runs rely on.
 
 use super::fig6::Fig6;
 use crate::simulation::Law;
 use crate::stability::vehicle::VehiclePlant;
-use crate::vehicle::VehicleModel;
 use maglev_core::gap::Geometry;
 use maglev_core::Params;
 
 fn verdict(p: &Fig6) -> crate::stability::vehicle::Verdict {
-    let car = p.build(9.81).unwrap();
-    let v = VehicleModel {
-        m: car.m,
-        c: car.c,
-        k: car.k,
-        wheels: car.wheels,
-        p0: car.p0,
-        body_z: car.body_z,
-    };
+    let v = p.build(9.81).unwrap();
     VehiclePlant::new(&v, &Params::paper_wheel(1e-3), &Law::Paper, Geometry::Paper)
         .unwrap()
         .verdict()

@@ -128,7 +128,7 @@ fn an_element_with_ends_across_its_direction_is_refused() {
 // ---------------------------------------------------------------- the Fig. 6 carriage
 
 /// The rigid motion (t, θ) of the whole carriage as its DOF vector, from the geometry.
-fn fig6_rigid(p: &Fig6, car: &CarBlock, t: [f64; 3], th: [f64; 3]) -> DVector<f64> {
+fn fig6_rigid(p: &Fig6, car: &VehicleModel, t: [f64; 3], th: [f64; 3]) -> DVector<f64> {
     let mut u = DVector::zeros(car.k.nrows());
     let (body, bogies) = p.bodies();
     for (base, at) in std::iter::once((0, body.at))
@@ -294,7 +294,7 @@ fn fig6_body_bounce_and_pitch_on_held_magnets() {
 // ---------------------------------------------------------------- the wheel/rail car
 
 /// The rigid motion (heave t_z, roll θx, pitch θy about the origin) as the car's DOF vector.
-fn wr_rigid(p: &WheelRail, car: &CarBlock, tz: f64, rx: f64, ry: f64) -> DVector<f64> {
+fn wr_rigid(p: &WheelRail, car: &VehicleModel, tz: f64, rx: f64, ry: f64) -> DVector<f64> {
     let mut u = DVector::zeros(17);
     let (t, th) = ([0.0, 0.0, tz], [rx, ry, 0.0]);
     let (body, bogies, _) = p.bodies();
@@ -388,7 +388,7 @@ fn hertz_stiffness_against_the_formula_and_a_derivative() {
 #[test]
 fn wheel_rail_contact_forces_on_a_smooth_rigid_rail_are_the_static_loads() {
     // The car free on its 8 contact springs over a fixed rail: solve K_rail u = f (nothing
-    // held); each contact force k_H·(−u) equals P0 and they sum to the weight.
+    // held); each contact force k·(−u) equals P0 and they sum to the weight.
     let p = WheelRail::default();
     let car = p.build(G).unwrap();
     let (body, bogies, wheelsets) = p.bodies();
@@ -403,15 +403,16 @@ fn wheel_rail_contact_forces_on_a_smooth_rigid_rail_are_the_static_loads() {
     let (u, _) = static_solution(&car.k_on_rigid_rail(), &f, &[]).unwrap();
     let mut sum = 0.0;
     for c in &car.contacts {
-        let force = -c.k_h * u[c.dof_z];
+        let force = -c.k * u[c.dof_z];
         assert!((force - c.p0).abs() < 1e-9 * c.p0, "{force} vs {}", c.p0);
         sum += force;
     }
     assert!((sum - car.weight).abs() < 1e-9 * car.weight);
-    // The contact compression is P0/k_H ≈ 60 µm; the body sags by the two suspensions more.
+    // The contact compression is P0/k (Hertz and track in series); the body sags by the two
+    // suspensions more.
     let sag = 44_000.0 * G / (4.0 * p.k_sec)
         + 48_800.0 * G / (8.0 * p.k_pri)
-        + car.contacts[0].p0 / car.contacts[0].k_h;
+        + car.contacts[0].p0 / car.contacts[0].k;
     assert!((u[car.body_z] + sag).abs() < 1e-9 * sag);
 }
 

@@ -15,8 +15,8 @@
 //! heave and roll are z = (z_near + z_far)/2 and θx = (z_far − z_near)/(2·b0), an exact change
 //! of coordinates that gives each contact a DOF of its own.
 
-use super::link::{add_spring_damper, static_solution, Axis, End, Rigid, RX, RY, UZ};
-use super::{CarBlock, CarKind, Contact};
+use super::link::{add_spring_damper, Axis, End, Rigid, RX, RY, UZ};
+use super::{Contact, VehicleModel};
 use crate::{Error, Result};
 use nalgebra::{DMatrix, DVector};
 
@@ -30,6 +30,28 @@ pub fn zhai_g(radius: f64) -> f64 {
 /// k_H = dP/dδ = (3/2)·(δ0/G)^(1/2)/G = (3/2)·P0^(1/3)/G (N/m).
 pub fn hertz_stiffness(p0: f64, radius: f64) -> f64 {
     1.5 * p0.cbrt() / zhai_g(radius)
+}
+
+/// The track's point stiffness under a wheel (N/m): the rail as an infinite Euler beam
+/// (bending stiffness `rail_ei`, N·m²) on its pads (`pad` N/m each, `spacing` m apart) smeared
+/// into a Winkler foundation k_f = pad/spacing; a point load P deflects it by
+/// w0 = P·β/(2·k_f), β = (k_f/(4·EI))^(1/4) (Hetényi, *Beams on Elastic Foundation*, 1946),
+/// so k = 2·k_f/β.
+pub fn track_stiffness(rail_ei: f64, pad: f64, spacing: f64) -> f64 {
+    let kf = pad / spacing;
+    let beta = (kf / (4.0 * rail_ei)).powf(0.25);
+    2.0 * kf / beta
+}
+
+/// Two springs in series (N/m); an infinite one is rigid.
+pub fn series(a: f64, b: f64) -> f64 {
+    if a.is_infinite() {
+        b
+    } else if b.is_infinite() {
+        a
+    } else {
+        a * b / (a + b)
+    }
 }
 
 /// Parameters of the wheel/rail car (SI). Defaults and sources: docs/cars.md.
@@ -66,6 +88,10 @@ pub struct WheelRail {
     pub rail_z: f64,
     /// Car pitch along the train (m).
     pub car_length: f64,
+    /// The track's point stiffness under each wheel (N/m), in series with the Hertz spring
+    /// ([`track_stiffness`]; docs/cars.md "The track"); `f64::INFINITY` puts the wheel on the
+    /// girder through the Hertz spring alone.
+    pub track_stiffness: f64,
 }
 
 impl Default for WheelRail {
@@ -92,6 +118,8 @@ impl Default for WheelRail {
             track_y: 2.25,
             rail_z: 1.0,
             car_length: 25.0,
+            // UIC60 rail (E·I = 2.06e11 × 3.217e-5 m⁴) on 60 kN/mm pads every 0.625 m.
+            track_stiffness: track_stiffness(2.06e11 * 3.217e-5, 6.0e7, 0.625),
         }
     }
 }
@@ -116,6 +144,15 @@ impl WheelRail {
             ("wheel_radius", self.wheel_radius),
             ("car_length", self.car_length),
         ];
+        if self.track_stiffness.is_nan() || self.track_stiffness <= 0.0 {
+            return Err(Error::invalid(
+                "wheel_rail.track_stiffness",
+                format!(
+                    "must be > 0 (infinite: no track), got {}",
+                    self.track_stiffness
+                ),
+            ));
+        }
         for (key, v) in positive {
             if !(v.is_finite() && v > 0.0) {
                 return Err(Error::invalid(
@@ -179,7 +216,7 @@ impl WheelRail {
     }
 
     /// Builds the car (module docs); contact loads from its exact statics on held wheels.
-    pub fn build(&self, gravity: f64) -> Result<CarBlock> {
+    pub fn build(&self, gravity: f64) -> Result<VehicleModel> {
         self.validate()?;
         let n = 17;
         let (mut m, mut c, mut k) = (
@@ -224,8 +261,6 @@ impl WheelRail {
                 add_spring_damper(&mut k, &mut c, (self.k_pri, self.c_pri), Axis::Z, w, o)?;
             }
         }
-        let held: Vec<usize> = (9..17).collect();
-        let (_, r) = static_solution(&k, &f, &held)?;
         let x_front = self.wheelset_x(0);
         let mut contacts = Vec::with_capacity(8);
         for a in 0..4 {
@@ -233,27 +268,19 @@ impl WheelRail {
                 .into_iter()
                 .enumerate()
             {
-                let dof_z = 9 + 2 * a + s;
-                let p0 = r[dof_z];
-                if p0.is_nan() || p0 <= 0.0 {
-                    return Err(Error::numerical(format!(
-                        "wheel_rail: wheel {} carries no load in the static solution ({p0} N)",
-                        2 * a + s + 1
-                    )));
-                }
                 contacts.push(Contact {
                     x0: self.wheelset_x(a) - x_front,
                     ey: yc + dy,
                     ez: self.rail_z,
-                    dof_z,
-                    p0,
-                    k_h: hertz_stiffness(p0, self.wheel_radius),
+                    dof_z: 9 + 2 * a + s,
+                    p0: 0.0,
+                    k_h: 0.0,
+                    k: 0.0,
                 });
             }
         }
         let weight = gravity * (self.body_mass + 2.0 * self.bogie_mass + 4.0 * self.wheelset_mass);
-        Ok(CarBlock {
-            kind: CarKind::WheelRail,
+        let mut car = VehicleModel {
             m,
             c,
             k,
@@ -264,6 +291,14 @@ impl WheelRail {
             body_pitch: 2,
             length: self.car_length,
             weight,
-        })
+        };
+        // Exact statics with every wheel held: the reactions are the contacts' P0.
+        let (_, loads) = car.static_loads(&f)?;
+        for (c, p0) in car.contacts.iter_mut().zip(loads) {
+            c.p0 = p0;
+            c.k_h = hertz_stiffness(p0, self.wheel_radius);
+            c.k = series(c.k_h, self.track_stiffness);
+        }
+        Ok(car)
     }
 }

@@ -272,17 +272,7 @@ pub fn assemble(spec: &ViaductSpec) -> crate::Result<(Structure, Layout)> {
     ))
 }
 
-/// Motion of a pier's base node (the footing), on the committed state.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct BaseMotion {
-    /// Displacement, velocity, acceleration in Z (m, m/s, m/s²).
-    pub z: f64,
-    pub vz: f64,
-    pub az: f64,
-    /// Displacement and acceleration in Y.
-    pub y: f64,
-    pub ay: f64,
-}
+pub use crate::guideway::BaseMotion;
 
 /// The girder element under `x` (its first DOF) and the wheel shape there; `None` off the
 /// viaduct. A pier's x belongs to the span on its right (the last span keeps its end).
@@ -458,6 +448,10 @@ impl Viaduct {
 impl Guideway for Viaduct {
     fn time_step(&self) -> f64 {
         self.dt
+    }
+
+    fn pier_base(&self, k: usize) -> Option<BaseMotion> {
+        Viaduct::pier_base(self, k)
     }
 
     fn solve_step(&mut self, loads: &[PointLoad]) {

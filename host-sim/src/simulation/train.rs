@@ -38,7 +38,8 @@ impl TrainState {
             offsets.push(n);
             n += c.m.nrows();
             cars.push(Car {
-                newmark: Newmark::new(c.m.clone(), c.c.clone(), c.k.clone(), dt)?,
+                // The contact springs are implicit on the car's side (docs/cars.md).
+                newmark: Newmark::new(c.m.clone(), c.c.clone(), c.k_on_rigid_rail(), dt)?,
                 f: DVector::zeros(c.m.nrows()),
             });
         }
@@ -67,8 +68,10 @@ impl TrainState {
     }
 
     /// Solves every car for the wheel forces `(Δf_z, f_y)` (`G − p0` and the guidance
-    /// force), one entry per wheel of the train in order.
-    pub fn solve(&mut self, train: &Train, forces: &[(f64, f64)]) {
+    /// force), one entry per magnet wheel of the train in order, and the contacts' forcing
+    /// `contact` (N, one per contact: `k·(z_g − r_z)` plus any loss-of-contact correction,
+    /// docs/cars.md "Wheel–rail contact").
+    pub fn solve(&mut self, train: &Train, forces: &[(f64, f64)], contact: &[f64]) {
         for c in &mut self.cars {
             c.f.fill(0.0);
         }
@@ -76,6 +79,9 @@ impl TrainState {
             let f = &mut self.cars[w.car].f;
             f[w.dof_z] = fz;
             f[w.dof_y] = fy;
+        }
+        for (k, &fz) in train.contacts.iter().zip(contact) {
+            self.cars[k.car].f[k.dof_z] += fz;
         }
         if self.parallel {
             self.cars.par_iter_mut().for_each(|c| c.newmark.solve(&c.f));

@@ -1,0 +1,473 @@
+//! The §5 trains through the coupling loop (issue #10; docs/cars.md "How the cars join the
+//! train"): Fig. 6 maglev carriages with a controller per magnet, wheel/rail cars on Hertz
+//! contacts, over a rigid rail, one simply supported span and the paper-5 viaduct.
+
+use maglev_core::gap::Geometry;
+use maglev_core::irregularity::Direction;
+use maglev_core::levitation::GRAVITY;
+use maglev_core::Params;
+use maglev_host_sim::cars::fig6::Fig6;
+use maglev_host_sim::cars::wheel_rail::WheelRail;
+use maglev_host_sim::fe::viaduct::{paper5_viaduct, Viaduct};
+use maglev_host_sim::fe::FeGuideway;
+use maglev_host_sim::guideway::{Bridge, Guideway};
+use maglev_host_sim::probes::{BodyQ, PierQ, Probe, Probes, Recorder, StepView, WheelQ};
+use maglev_host_sim::profile::Profile;
+use maglev_host_sim::setup::RigidGuideway;
+use maglev_host_sim::simulation::{simulate, Law, Load, Outcome, Profiles, Settings};
+use maglev_host_sim::vehicle::Train;
+
+const DT: f64 = 2e-3;
+const SPEED: f64 = 83.33;
+
+/// Records the given probes at every step.
+struct Collect {
+    probes: Vec<Probe>,
+    rows: Vec<Vec<f64>>,
+}
+
+impl Recorder for Collect {
+    fn record(&mut self, step: &StepView) -> Result<(), String> {
+        self.rows
+            .push(self.probes.iter().map(|p| step.value(p)).collect());
+        Ok(())
+    }
+}
+
+fn settings(speed: f64, t_end: f64, law: Law, geometry: Geometry, midspans: Vec<f64>) -> Settings {
+    Settings {
+        speed,
+        dt: DT,
+        t_end,
+        controller: Params::paper_wheel(DT),
+        law,
+        geometry,
+        tolerance: 1e-9,
+        max_iterations: 50,
+        midspan_x: midspans.first().copied().unwrap_or(0.0),
+        midspans,
+    }
+}
+
+/// The gap-loop gains designed for the Fig. 6 carriage (docs/gap-loop.md).
+fn gap_loop(geometry: Geometry) -> Law {
+    let car = Fig6::default().build(GRAVITY).unwrap();
+    let d =
+        maglev_host_sim::stability::design::design(&car, &Params::paper_wheel(DT), geometry, None)
+            .unwrap();
+    Law::GapLoop(d.gains)
+}
+
+/// The paper's Table 1 irregularity from x = −60 m over `length` (m), vertical and lateral.
+fn table1(length: f64) -> Profiles {
+    let y = Profile::table1(Direction::Y, 7, -60.0, length).unwrap();
+    let z = Profile::table1(Direction::Z, 7, -60.0, length).unwrap();
+    Profiles {
+        y: Box::new(move |x| y.at(x)),
+        z: Box::new(move |x| z.at(x)),
+    }
+}
+
+fn run(g: &mut impl Guideway, t: &Train, p: &Profiles, s: &Settings, rec: &mut Collect) -> Outcome {
+    simulate(g, &Load::Vehicle(t.clone()), p, s, rec, |_| {}).unwrap()
+}
+
+fn body_probes(cars: usize) -> Vec<Probe> {
+    (0..cars)
+        .map(|car| Probe::Body { car, q: BodyQ::Z })
+        .collect()
+}
+
+// ------------------------------------------------------------------ Fig. 6 on a rigid rail
+
+/// Two Fig. 6 carriages (64 magnets, each its own controller) on a rigid, smooth rail stay in
+/// their static equilibrium to round-off, under both laws and the geometries they fly in;
+/// over the paper's irregularity they fly without a collision.
+#[test]
+fn fig6_train_on_a_rigid_rail_rests_when_smooth_and_flies_over_the_irregularity() {
+    let train = Train::fig6(2, GRAVITY).unwrap();
+    let h0 = Params::paper_wheel(DT).h0;
+    let cases = [
+        ("paper law, paper geometry", Law::Paper, Geometry::Paper),
+        (
+            "gap loop, paper geometry",
+            gap_loop(Geometry::Paper),
+            Geometry::Paper,
+        ),
+        (
+            "gap loop, EMS geometry",
+            gap_loop(Geometry::Ems),
+            Geometry::Ems,
+        ),
+    ];
+    let mut probes = body_probes(2);
+    for wheel in [0, 31, 32, 63] {
+        probes.push(Probe::Wheel {
+            wheel,
+            q: WheelQ::GapZ,
+        });
+    }
+    for (name, law, geometry) in cases {
+        let s = settings(SPEED, 1.0, law, geometry, vec![]);
+        let mut rec = Collect {
+            probes: probes.clone(),
+            rows: vec![],
+        };
+        let out = run(
+            &mut RigidGuideway::new(DT),
+            &train,
+            &Profiles::smooth(),
+            &s,
+            &mut rec,
+        );
+        assert_eq!(out.collision_steps, 0, "{name}");
+        assert_eq!(out.unconverged_steps, 0, "{name}");
+        let (mut body, mut gap) = (0.0f64, 0.0f64);
+        for row in &rec.rows {
+            body = body.max(row[0].abs()).max(row[1].abs());
+            for g in &row[2..] {
+                gap = gap.max((g - h0).abs());
+            }
+        }
+        println!("{name}: smooth rigid rail, max |body z| {body:.2e} m, max |h − h0| {gap:.2e} m");
+        // Round-off: the static state is exact, so every deviation is a few ulps of h0.
+        assert!(body < 1e-13 && gap < 1e-15, "{name}: {body:e} {gap:e}");
+
+        let mut rec = Collect {
+            probes: probes.clone(),
+            rows: vec![],
+        };
+        let out = run(
+            &mut RigidGuideway::new(DT),
+            &train,
+            &table1(SPEED * 1.0 + 60.0),
+            &s,
+            &mut rec,
+        );
+        let min_gap = out
+            .gap_ranges
+            .iter()
+            .flat_map(|r| r.iter().map(|g| g.0))
+            .fold(f64::INFINITY, f64::min);
+        let its = out.records.iter().skip(1).map(|r| r.iterations).max();
+        println!("{name}: Table 1 rail, min gap {min_gap:.3e} m, max iterations {its:?}");
+        assert_eq!(out.collision_steps, 0, "{name}: min gap {min_gap}");
+        assert_eq!(out.unconverged_steps, 0, "{name}");
+        assert!(rec.rows.iter().flatten().all(|v| v.is_finite()));
+    }
+}
+
+// --------------------------------------------------------------- wheel/rail on a rigid rail
+
+/// On a smooth rigid rail every contact force is the car's static axle-load share, by hand
+/// statics of the symmetric car (lever rule): each wheel carries 1/8 of the body, 1/4 of its
+/// bogie and 1/2 of its wheelset — to round-off, at every step, with no lift-off.
+#[test]
+fn wheel_rail_contact_forces_on_a_smooth_rigid_rail_are_the_hand_axle_loads() {
+    let p = WheelRail::default();
+    let share = GRAVITY * (p.body_mass / 8.0 + p.bogie_mass / 4.0 + p.wheelset_mass / 2.0);
+    let train = Train::wheel_rail(2, GRAVITY).unwrap();
+    let probes: Vec<Probe> = (0..16)
+        .map(|wheel| Probe::Wheel {
+            wheel,
+            q: WheelQ::ForceZ,
+        })
+        .collect();
+    let mut rec = Collect {
+        probes,
+        rows: vec![],
+    };
+    let s = settings(SPEED, 1.0, Law::Paper, Geometry::Paper, vec![]);
+    let out = run(
+        &mut RigidGuideway::new(DT),
+        &train,
+        &Profiles::smooth(),
+        &s,
+        &mut rec,
+    );
+    assert_eq!(out.contact_loss_steps, 0);
+    assert_eq!(rec.rows.len(), 501);
+    let worst = rec
+        .rows
+        .iter()
+        .flatten()
+        .map(|f| (f - share).abs())
+        .fold(0.0, f64::max);
+    println!("hand share {share:.3} N, max deviation {worst:.2e} N");
+    assert!(worst <= 1e-9 * share, "{worst}");
+    // The same through the outcome's ranges and wheel 1's record.
+    for &(lo, hi) in &out.contact_ranges {
+        assert!((lo - share).abs() <= 1e-9 * share && (hi - share).abs() <= 1e-9 * share);
+    }
+    assert!((out.records[250].wheel1_force_z - share).abs() <= 1e-9 * share);
+}
+
+/// The contact can only push: a car dropped onto a rail that falls away 1 mm under it (a
+/// step of r_z, which opens the gap) loses contact and the force is zero, not negative.
+#[test]
+fn a_wheel_over_a_falling_rail_lifts_off_and_its_force_is_clamped_at_zero() {
+    let train = Train::wheel_rail(1, GRAVITY).unwrap();
+    let profiles = Profiles {
+        y: Box::new(|_| 0.0),
+        z: Box::new(|x: f64| if x > 1.0 { 1e-3 } else { 0.0 }),
+    };
+    let probes = vec![Probe::Wheel {
+        wheel: 0,
+        q: WheelQ::ForceZ,
+    }];
+    let mut rec = Collect {
+        probes,
+        rows: vec![],
+    };
+    let s = settings(10.0, 0.5, Law::Paper, Geometry::Paper, vec![]);
+    let out = run(&mut RigidGuideway::new(DT), &train, &profiles, &s, &mut rec);
+    // The static compression is P0/k_h ≈ 60 µm ≪ 1 mm: the leading wheel leaves the rail.
+    assert!(out.contact_loss_steps > 0);
+    assert!(rec.rows.iter().all(|r| r[0] >= 0.0));
+    assert!(rec.rows.iter().any(|r| r[0] == 0.0));
+    assert_eq!(out.unconverged_steps, 0);
+}
+
+// ----------------------------------------------------- wheel/rail over one simply supported span
+
+/// One wheel/rail car crossing one simply supported 30 m span of the paper-5 girder at
+/// 2 m/s: the midspan deflection follows the closed-form static deflection of the eight
+/// axle loads at their positions (Euler–Bernoulli bending plus Timoshenko shear, the loads the
+/// hand statics' P0).
+///
+/// Tolerance from the speed: for a constant force crossing a simply supported beam, the
+/// first mode's response is the quasi-static one times 1/(1 − α²) minus a free vibration of
+/// relative amplitude α/(1 − α²), α = v/(2 f1 L) (Frýba, *Vibration of Solids and Structures
+/// under Moving Loads*, §1.3). Even with every load's free vibration in phase, the departure
+/// from the quasi-static value stays below α/(1 − α) times the static deflection of all the
+/// loads at midspan. f1 is the Timoshenko beam's first frequency (shear lowers it, which
+/// raises α).
+#[test]
+fn wheel_rail_car_over_one_span_at_low_speed_deflects_as_the_static_axle_loads() {
+    let girder = paper5_viaduct().girder;
+    let l = 30.0;
+    let bridge = Bridge {
+        section: girder.clone(),
+        spans: vec![l],
+    };
+    let mut g = FeGuideway::new(&bridge, 16, DT).unwrap();
+    let train = Train::wheel_rail(1, GRAVITY).unwrap();
+    let p = WheelRail::default();
+    let share = GRAVITY * (p.body_mass / 8.0 + p.bogie_mass / 4.0 + p.wheelset_mass / 2.0);
+    let v = 2.0;
+    // Long enough for the last axle (20 m behind) to leave the span.
+    let t_end = (l + 22.0) / v;
+    let s = settings(v, t_end, Law::Paper, Geometry::Paper, vec![l / 2.0]);
+    let mut rec = Collect {
+        probes: vec![],
+        rows: vec![],
+    };
+    let out = run(&mut g, &train, &Profiles::smooth(), &s, &mut rec);
+    assert_eq!(out.contact_loss_steps, 0);
+    assert_eq!(out.unconverged_steps, 0);
+
+    let ei = girder.youngs_modulus * girder.iy;
+    let kga = girder.shear_modulus * girder.shear_area_z;
+    // Midspan deflection under P at a (0 ≤ a ≤ L; by symmetry a → L − a past the middle).
+    let w_mid = |a: f64| -> f64 {
+        if !(0.0..=l).contains(&a) {
+            return 0.0;
+        }
+        let a = a.min(l - a);
+        -(share * a * (3.0 * l * l - 4.0 * a * a) / (48.0 * ei) + share * a / (2.0 * kga))
+    };
+    let w_all = 8.0 * w_mid(l / 2.0);
+    let f1_eb = std::f64::consts::PI / (2.0 * l * l) * (ei / girder.mass_per_length).sqrt();
+    let f1 = f1_eb / (1.0 + std::f64::consts::PI.powi(2) * ei / (kga * l * l)).sqrt();
+    let alpha = v / (2.0 * f1 * l);
+    let tol = alpha / (1.0 - alpha) * w_all.abs();
+    let mut worst = 0.0f64;
+    let mut peak = 0.0f64;
+    for r in &out.records {
+        let want: f64 = train.contacts.iter().map(|c| w_mid(c.x0 + v * r.t)).sum();
+        worst = worst.max((r.midspan.z - want).abs());
+        peak = peak.max(want.abs());
+    }
+    let its: Vec<u32> = out.records.iter().skip(1).map(|r| r.iterations).collect();
+    println!(
+        "f1 {f1:.3} Hz, α {alpha:.2e}: max |w − w_static| {worst:.3e} m, tolerance {tol:.3e} m, \
+         peak static {peak:.3e} m; iterations {}–{}",
+        its.iter().min().unwrap(),
+        its.iter().max().unwrap()
+    );
+    assert!(peak > 0.5 * w_all.abs());
+    assert!(worst <= tol, "{worst} > {tol}");
+}
+
+// ------------------------------------------------------------------ over the paper-5 viaduct
+
+fn viaduct_run(
+    train: &Train,
+    spans: usize,
+    steps: usize,
+    names: &[&str],
+) -> (Outcome, Collect, f64) {
+    let spec = paper5_viaduct().with_spans(spans);
+    let mut g = Viaduct::new(&spec, DT).unwrap();
+    let midspans: Vec<f64> = (0..spans)
+        .map(|k| (k as f64 + 0.5) * spec.span_length)
+        .collect();
+    let s = settings(
+        SPEED,
+        steps as f64 * DT,
+        Law::Paper,
+        Geometry::Paper,
+        midspans,
+    );
+    let extent = maglev_host_sim::probes::Extent {
+        spans,
+        wheels: train.nodes.len(),
+        cars: train.cars.len(),
+        magnets: !train.wheels.is_empty(),
+    };
+    let names: Vec<String> = names.iter().map(|s| s.to_string()).collect();
+    let probes = Probes::new(Some(&names), &extent).unwrap();
+    probes.check_guideway(&g).unwrap();
+    let mut rec = Collect {
+        probes: probes.probes,
+        rows: vec![],
+    };
+    let start = std::time::Instant::now();
+    let out = run(&mut g, train, &Profiles::smooth(), &s, &mut rec);
+    (out, rec, start.elapsed().as_secs_f64())
+}
+
+/// Two-car trains of both kinds cross 3 spans of the paper-5 viaduct at 83.33 m/s, Δt = 2 ms,
+/// on a smooth rail: no collision, every step converged, finite responses, and the piers'
+/// bases move. The wheels keep contact everywhere except just past the two ends of the
+/// viaduct, where the model's rail steps from the rigid embankment onto a girder end sunk on
+/// its bearings, or back (docs/cars.md "Where a wheel lifts off"): there, and only there
+/// (within 1.5 m, nine steps), a wheel may lift off briefly.
+#[test]
+fn two_car_trains_cross_three_viaduct_spans() {
+    let base = [
+        "car1.body.az",
+        "car2.body.z",
+        "pier2.base.z",
+        "pier2.base.az",
+        "pier3.base.az",
+        "span2.midspan.z",
+        "wheel1.force_z",
+        "wheel9.z",
+    ];
+    // Leading node from x = 0 to beyond the last pier: 90 m + the train's 50 m.
+    let steps = ((90.0 + 50.0) / SPEED / DT).ceil() as usize;
+    for (kind, train) in [
+        ("maglev", Train::fig6(2, GRAVITY).unwrap()),
+        ("wheel-rail", Train::wheel_rail(2, GRAVITY).unwrap()),
+    ] {
+        let forces: Vec<String> = (1..=train.nodes.len())
+            .map(|w| format!("wheel{w}.force_z"))
+            .collect();
+        let mut names: Vec<&str> = base.to_vec();
+        names.extend(forces.iter().map(|s| s.as_str()));
+        let (out, rec, wall) = viaduct_run(&train, 3, steps, &names);
+        assert_eq!(out.collision_steps, 0, "{kind}");
+        assert_eq!(out.unconverged_steps, 0, "{kind}");
+        assert!(rec.rows.iter().flatten().all(|v| v.is_finite()), "{kind}");
+        let max = |c: usize| rec.rows.iter().map(|r| r[c].abs()).fold(0.0, f64::max);
+        let its: Vec<u32> = out.records.iter().skip(1).map(|r| r.iterations).collect();
+        let mean = its.iter().sum::<u32>() as f64 / its.len() as f64;
+        // Where the contacts lifted off: distance past the nearest viaduct end.
+        let mut lift_offs = Vec::new();
+        for (i, r) in rec.rows.iter().enumerate() {
+            for (j, c) in train.contacts.iter().enumerate() {
+                if r[base.len() + j] == 0.0 {
+                    lift_offs.push(c.x0 + SPEED * DT * i as f64);
+                }
+            }
+        }
+        println!(
+            "{kind}: {steps} steps in {wall:.2} s; iterations mean {mean:.2}, max {}; \
+             |pier2 base z| {:.3e} m, az {:.3e} m/s²; |span2 midspan z| {:.3e} m; \
+             wheel1 force {:.4e}..{:.4e} N; lift-off steps {}, at x {:?}",
+            its.iter().max().unwrap(),
+            max(2),
+            max(3),
+            max(5),
+            rec.rows.iter().map(|r| r[6]).fold(f64::INFINITY, f64::min),
+            rec.rows.iter().map(|r| r[6]).fold(0.0, f64::max),
+            out.contact_loss_steps,
+            lift_offs
+        );
+        for x in &lift_offs {
+            let past_end = [x - 0.0, x - 90.0]
+                .into_iter()
+                .any(|d| (0.0..=1.5).contains(&d));
+            assert!(
+                past_end,
+                "{kind}: lift-off at x = {x} m, not just past a viaduct end"
+            );
+        }
+        assert!(max(2) > 0.0 && max(3) > 0.0 && max(4) > 0.0, "{kind}");
+        assert!(max(5) > 0.0, "{kind}");
+    }
+}
+
+/// A pier probe beyond the viaduct is refused before the run, naming the limit.
+#[test]
+fn a_pier_probe_is_checked_against_the_guideway() {
+    let g = Viaduct::new(&paper5_viaduct().with_spans(3), DT).unwrap();
+    let e = maglev_host_sim::probes::Extent {
+        spans: 3,
+        wheels: 8,
+        cars: 1,
+        magnets: false,
+    };
+    let p = Probes::new(Some(&["pier5.base.z".to_string()]), &e).unwrap();
+    let err = p.check_guideway(&g).unwrap_err();
+    assert!(err.contains("at most 4"), "{err}");
+    let ok = Probes::new(Some(&["pier4.base.az".to_string()]), &e).unwrap();
+    assert!(ok.check_guideway(&g).is_ok());
+    assert_eq!(
+        ok.probes[0],
+        Probe::Pier {
+            pier: 3,
+            q: PierQ::Az
+        }
+    );
+    // A guideway without piers has none.
+    assert!(ok.check_guideway(&RigidGuideway::new(DT)).is_err());
+}
+
+/// Issue #10's runs: a 12-car train of each kind over the 35-span viaduct, 5000 steps of
+/// 2 ms at 83.33 m/s. A timing print, not a timed assertion (run in release:
+/// `cargo test --release -p maglev-host-sim --test paper5_train -- --ignored --nocapture`).
+#[test]
+#[ignore]
+fn timing_of_12_car_trains_over_35_spans() {
+    let names = ["car4.body.az", "pier20.base.az"];
+    let hertz_only = WheelRail {
+        track_stiffness: f64::INFINITY,
+        ..WheelRail::default()
+    };
+    let hertz_only = Train::repeated(
+        &maglev_host_sim::vehicle::CarKind::WheelRail(hertz_only),
+        12,
+        25.0,
+        GRAVITY,
+    )
+    .unwrap();
+    for (kind, train) in [
+        ("maglev", Train::fig6(12, GRAVITY).unwrap()),
+        ("wheel-rail", Train::wheel_rail(12, GRAVITY).unwrap()),
+        ("wheel-rail, Hertz spring only (no track)", hertz_only),
+    ] {
+        let (out, _, wall) = viaduct_run(&train, 35, 5000, &names);
+        let its: Vec<u32> = out.records.iter().skip(1).map(|r| r.iterations).collect();
+        let mean = its.iter().sum::<u32>() as f64 / its.len() as f64;
+        println!(
+            "{kind}: 12 cars, 35 spans, 5000 steps: {wall:.1} s wall; iterations mean {mean:.2}, \
+             max {}; collisions {}, lift-offs {}, unconverged {}",
+            its.iter().max().unwrap(),
+            out.collision_steps,
+            out.contact_loss_steps,
+            out.unconverged_steps
+        );
+    }
+}
