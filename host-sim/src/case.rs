@@ -61,6 +61,19 @@ pub enum TrainCase {
         cars: usize,
         car_length: f64,
     },
+    /// `cars` Fig. 6 maglev carriages (docs/cars.md); `nodes` magnet wheels in all, the last
+    /// `length` behind the leading one.
+    Maglev {
+        cars: usize,
+        nodes: usize,
+        length: f64,
+    },
+    /// `cars` wheel/rail cars (docs/cars.md); `nodes` wheel–rail contacts in all.
+    WheelRail {
+        cars: usize,
+        nodes: usize,
+        length: f64,
+    },
     /// Constant vertical moving loads (a `forces` train or the single `moving-force`), the
     /// leading load at x = 0 at t = 0 and every other behind it.
     Forces(Vec<MovingLoad>),
@@ -152,13 +165,13 @@ impl Case {
         let (train, geometry) = train(&sc.vehicle)?;
         let controller = match (&sc.controller, &train) {
             (Some(_), _) => controller(&sc, dt)?,
-            (None, TrainCase::Fig1 { .. }) => {
+            (None, TrainCase::Fig1 { .. } | TrainCase::Maglev { .. }) => {
                 return Err(Error::invalid(
                     "controller",
-                    "a fig1 vehicle needs a [controller] section",
+                    "a train with magnets needs a [controller] section",
                 ))
             }
-            (None, TrainCase::Forces(_)) => Params::paper_wheel(dt),
+            (None, TrainCase::Forces(_) | TrainCase::WheelRail { .. }) => Params::paper_wheel(dt),
         };
         let t_end = match r.t_end_s {
             Some(t) => positive("run.t_end_s", t)?,
@@ -258,6 +271,8 @@ impl Case {
                 cars,
                 car_length,
             } => Train::fig1_repeated(car, *cars, *car_length, GRAVITY).map(Some),
+            TrainCase::Maglev { cars, .. } => Train::fig6(*cars, GRAVITY).map(Some),
+            TrainCase::WheelRail { cars, .. } => Train::wheel_rail(*cars, GRAVITY).map(Some),
             TrainCase::Forces(_) => Ok(None),
         }
     }
@@ -310,6 +325,14 @@ impl Case {
                 "body_height_m": car.body_height,
                 "wheel_mass_kg": car.wheel_mass,
                 "com_ahead_m": car.com_ahead,
+            }),
+            TrainCase::Maglev { cars, nodes, length } => json!({
+                "kind": "maglev", "cars": cars, "magnets": nodes, "length_m": length,
+                "car": "Fig. 6 carriage, docs/cars.md",
+            }),
+            TrainCase::WheelRail { cars, nodes, length } => json!({
+                "kind": "wheel-rail", "cars": cars, "contacts": nodes, "length_m": length,
+                "car": "wheel/rail car, docs/cars.md",
             }),
             TrainCase::Forces(loads) => json!({
                 "kind": "forces",
@@ -700,6 +723,30 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
                 (*geometry).into(),
             ))
         }
+        VehicleSection::Maglev { cars, geometry } => {
+            bounded("train.cars", *cars, 1, MAX_CARS)?;
+            let (nodes, length) = extent_of(&Train::fig6(*cars, GRAVITY)?);
+            Ok((
+                TrainCase::Maglev {
+                    cars: *cars,
+                    nodes,
+                    length,
+                },
+                (*geometry).into(),
+            ))
+        }
+        VehicleSection::WheelRail { cars } => {
+            bounded("train.cars", *cars, 1, MAX_CARS)?;
+            let (nodes, length) = extent_of(&Train::wheel_rail(*cars, GRAVITY)?);
+            Ok((
+                TrainCase::WheelRail {
+                    cars: *cars,
+                    nodes,
+                    length,
+                },
+                Geometry::Paper,
+            ))
+        }
         VehicleSection::MovingForce {
             force_kN,
             offset_y_m,
@@ -805,8 +852,20 @@ fn train_length(t: &TrainCase) -> f64 {
             cars,
             car_length,
         } => 2.0 * car.half_length + (cars - 1) as f64 * car_length,
+        TrainCase::Maglev { length, .. } | TrainCase::WheelRail { length, .. } => *length,
         TrainCase::Forces(f) => f.iter().map(|l| -l.x0).fold(0.0, f64::max),
     }
+}
+
+/// The guideway nodes of a §5 train and how far behind the leading one the last lies.
+fn extent_of(t: &Train) -> (usize, f64) {
+    let behind = t
+        .wheels
+        .iter()
+        .map(|w| w.x0)
+        .chain(t.contacts.iter().map(|c| c.x0))
+        .fold(0.0, |m: f64, x| m.max(-x));
+    (t.nodes.len(), behind)
 }
 
 /// The controller parameters in SI (p0 is set per magnet by the simulation).
@@ -855,7 +914,13 @@ fn law(
                     .map_err(|e| Error::invalid("controller.law", e))?
                     .gains
             }
-            TrainCase::Forces(_) => GapParams::designed(),
+            TrainCase::Maglev { .. } => {
+                let t = Train::fig6(1, GRAVITY)?;
+                crate::stability::design::design(&t.cars[0], controller, geometry, Some(dt))
+                    .map_err(|e| Error::invalid("controller.law", e))?
+                    .gains
+            }
+            TrainCase::Forces(_) | TrainCase::WheelRail { .. } => GapParams::designed(),
         })),
     }
 }
@@ -869,6 +934,18 @@ fn probes(sc: &Scenario, bridge: &Bridge, train: &TrainCase) -> Result<Probes> {
             wheels: 4 * cars,
             cars: *cars,
             magnets: true,
+        },
+        TrainCase::Maglev { cars, nodes, .. } => Extent {
+            spans,
+            wheels: *nodes,
+            cars: *cars,
+            magnets: true,
+        },
+        TrainCase::WheelRail { cars, nodes, .. } => Extent {
+            spans,
+            wheels: *nodes,
+            cars: *cars,
+            magnets: false,
         },
         TrainCase::Forces(f) => Extent {
             spans,

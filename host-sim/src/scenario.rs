@@ -22,7 +22,8 @@ pub const BUNDLED: [(&str, &str); 4] = [
 ];
 
 /// Short `--set` keys and the scenario key each stands for.
-pub const SHORT_KEYS: [(&str, &str); 12] = [
+pub const SHORT_KEYS: [(&str, &str); 13] = [
+    ("train", "train.kind"),
     ("speed", "run.speed_m_per_s"),
     ("model", "run.model"),
     ("elements", "run.elements_per_span"),
@@ -189,6 +190,20 @@ pub enum VehicleSection {
         offset_y_m: f64,
         offset_z_m: f64,
     },
+    /// The paper's §5 maglev train: `cars` Fig. 6 carriages at their pitch (docs/cars.md),
+    /// every magnet with its own controller (`[controller]`).
+    Maglev {
+        #[serde(default = "twelve")]
+        cars: usize,
+        /// How the magnets face their rails (docs/model.md §2); default `paper`.
+        #[serde(default)]
+        geometry: GeometryKey,
+    },
+    /// The paper's §5 wheel/rail train: `cars` cars of 25 m on Hertz contacts (docs/cars.md).
+    WheelRail {
+        #[serde(default = "twelve")]
+        cars: usize,
+    },
     /// Constant vertical moving loads (`[train] kind = "forces"`): one car's loads, repeated.
     Forces {
         /// One car's loads (kN, downward).
@@ -210,6 +225,10 @@ pub enum VehicleSection {
 
 fn one() -> usize {
     1
+}
+
+fn twelve() -> usize {
+    12
 }
 
 /// `vehicle.geometry`: `paper` (Eq. 2 read literally, the default) or `ems`.

@@ -132,7 +132,11 @@ impl Passage {
         let load = match (&case.train, case.vehicle_train()?) {
             (_, Some(train)) => Load::Vehicle(train),
             (TrainCase::Forces(f), None) => Load::Forces(f.clone()),
-            (TrainCase::Fig1 { .. }, None) => unreachable!("a fig1 case builds a train"),
+            (_, None) => {
+                return Err(Error::numerical(
+                    "internal: a train with cars built no train",
+                ))
+            }
         };
         let profiles = profiles_for(case, &load)?;
         let midspans = case.midspans();
