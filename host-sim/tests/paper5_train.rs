@@ -307,6 +307,16 @@ fn viaduct_run(
     steps: usize,
     names: &[&str],
 ) -> (Outcome, Collect, f64) {
+    viaduct_run_on(train, spans, steps, names, &Profiles::smooth())
+}
+
+fn viaduct_run_on(
+    train: &Train,
+    spans: usize,
+    steps: usize,
+    names: &[&str],
+    profiles: &Profiles,
+) -> (Outcome, Collect, f64) {
     let spec = paper5_viaduct().with_spans(spans);
     let mut g = Viaduct::new(&spec, DT).unwrap();
     let midspans: Vec<f64> = (0..spans)
@@ -333,7 +343,7 @@ fn viaduct_run(
         rows: vec![],
     };
     let start = std::time::Instant::now();
-    let out = run(&mut g, train, &Profiles::smooth(), &s, &mut rec);
+    let out = run(&mut g, train, profiles, &s, &mut rec);
     (out, rec, start.elapsed().as_secs_f64())
 }
 
@@ -453,12 +463,32 @@ fn timing_of_12_car_trains_over_35_spans() {
         GRAVITY,
     )
     .unwrap();
-    for (kind, train) in [
-        ("maglev", Train::fig6(12, GRAVITY).unwrap()),
-        ("wheel-rail", Train::wheel_rail(12, GRAVITY).unwrap()),
-        ("wheel-rail, Hertz spring only (no track)", hertz_only),
+    let smooth = Profiles::smooth();
+    let rough = table1(1100.0);
+    for (kind, train, profiles) in [
+        ("maglev", Train::fig6(12, GRAVITY).unwrap(), &smooth),
+        (
+            "wheel-rail",
+            Train::wheel_rail(12, GRAVITY).unwrap(),
+            &smooth,
+        ),
+        (
+            "wheel-rail, Hertz spring only (no track)",
+            hertz_only,
+            &smooth,
+        ),
+        (
+            "maglev, Table 1 rail",
+            Train::fig6(12, GRAVITY).unwrap(),
+            &rough,
+        ),
+        (
+            "wheel-rail, Table 1 rail",
+            Train::wheel_rail(12, GRAVITY).unwrap(),
+            &rough,
+        ),
     ] {
-        let (out, _, wall) = viaduct_run(&train, 35, 5000, &names);
+        let (out, _, wall) = viaduct_run_on(&train, 35, 5000, &names, profiles);
         let its: Vec<u32> = out.records.iter().skip(1).map(|r| r.iterations).collect();
         let mean = its.iter().sum::<u32>() as f64 / its.len() as f64;
         println!(
