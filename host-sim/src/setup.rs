@@ -116,6 +116,9 @@ impl Guideway for AnyGuideway {
     fn commit(&mut self) {
         each!(self, g => g.commit())
     }
+    fn pier_base(&self, k: usize) -> Option<crate::guideway::BaseMotion> {
+        each!(self, g => g.pier_base(k))
+    }
 }
 
 /// Everything a passage needs, in SI.
@@ -168,7 +171,8 @@ fn profiles_for(case: &Case, load: &Load) -> Result<Profiles> {
     let (Load::Vehicle(v), Some(seed)) = (load, case.irregularity_seed) else {
         return Ok(Profiles::smooth());
     };
-    let x0s = v.wheels.iter().map(|w| w.x0);
+    let x0s: Vec<f64> = v.node_x0();
+    let x0s = x0s.iter().copied();
     let x_min = x0s.clone().fold(f64::INFINITY, f64::min) - 1.0;
     let x_max = x0s.fold(f64::NEG_INFINITY, f64::max) + case.speed * case.t_end + 1.0;
     let table = |d| {
@@ -212,6 +216,12 @@ pub fn simulate(
     progress: impl FnMut(f64),
 ) -> Result<Run> {
     let mut p = Passage::new(case)?;
+    case.probes
+        .check_guideway(&p.guideway)
+        .map_err(|e| match e.split_once(": ") {
+            Some((k, reason)) => Error::invalid(k, reason),
+            None => Error::invalid("output.probes", e),
+        })?;
     let start = Instant::now();
     let (outcome, events) = match controllers {
         Controllers::Core => (
