@@ -309,9 +309,10 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
         .map(|&g| magnet_gaps(g, h0).map(|h| (h, h)))
         .collect();
     let mut collision_steps = 0;
-    let mut profile: Vec<[f64; 3]> = Vec::with_capacity((steps + 1) * nw);
-    for w in &v.wheels {
-        profile.push([w.x0, (profiles.y)(w.x0), (profiles.z)(w.x0)]);
+    // Wheel by wheel (each wheel's positions in step order: sorted runs for the final sort).
+    let mut profile: Vec<[f64; 3]> = vec![[0.0; 3]; (steps + 1) * nw];
+    for (i, w) in v.wheels.iter().enumerate() {
+        profile[i * (steps + 1)] = [w.x0, (profiles.y)(w.x0), (profiles.z)(w.x0)];
     }
     let mut records = Vec::with_capacity(steps + 1);
     records.push(Record {
@@ -362,7 +363,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             xs[i] = w.x0 + s.speed * t;
             rz[i] = (profiles.z)(xs[i]);
             ry[i] = (profiles.y)(xs[i]);
-            profile.push([xs[i], ry[i], rz[i]]);
+            profile[i * (steps + 1) + n] = [xs[i], ry[i], rz[i]];
         }
         // Gaps at t from a displacement estimate (the committed state on the first pass).
         let gaps = |trial: bool, veh: &TrainState, gw: &G, out: &mut [WheelGaps]| {
