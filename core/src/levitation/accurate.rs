@@ -222,7 +222,76 @@ impl<S: Scalar> Gauss<S> {
         }
         (x, yt.ssub(shift, ov), v)
     }
+}
 
+impl Gauss<f64> {
+    /// [`Gauss::step`] without a reference (`r = 0`) in plain f64, for hosts
+    /// ([`super::batch::update_batch`]): the same operations in the same order, including the
+    /// reference's zero terms (they decide the sign of a zero), unchecked. `None` (the caller
+    /// then runs the general path) if an interval meets the current floor or the voltage
+    /// bound, or if a determinant, scale, stage increment or an interval's result is not
+    /// finite. Every non-finite intermediate reaches one of these (the division is the one
+    /// operation that can absorb an infinity, and its inputs and result are checked), so
+    /// wherever this returns a value the checked path returns the same bits with no event and
+    /// no overflow.
+    #[inline]
+    pub(super) fn step_nominal(
+        &self,
+        x: f64,
+        y: f64,
+        eta: &Gap<f64>,
+        v_max: f64,
+    ) -> Option<(f64, f64, f64)> {
+        let r = 0.0;
+        let shift = self.kpv * r;
+        let mut yt = y + shift;
+        let khr = self.kh * r;
+        let (mut x, mut v) = (x, 0.0);
+        let mut s0 = 0.0;
+        let at = |s: f64| eta.eta0 + s * (eta.b1 + s * eta.b2);
+        let mut finite = true;
+        for _ in 0..self.m {
+            let e = [at(s0 + self.nodes[0]), at(s0 + self.nodes[1])];
+            let p = [(1.0 + self.kpv) + e[0], (1.0 + self.kpv) + e[1]];
+            let mij = |i: usize, j: usize| {
+                let d = self.c * (p[i] * self.a[i][j] + self.kh * self.a2[i][j]);
+                if i == j {
+                    1.0 + d
+                } else {
+                    d
+                }
+            };
+            let m = [[mij(0, 0), mij(0, 1)], [mij(1, 0), mij(1, 1)]];
+            let ri = |i: usize| {
+                let f = p[i] + self.kh * self.cn[i];
+                let forced = yt + khr * self.cn[i];
+                (forced - e[i]) - f * x
+            };
+            let rr = [ri(0), ri(1)];
+            let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+            let scale = self.c / det;
+            let w0 = m[1][1] * rr[0] - m[0][1] * rr[1];
+            let w1 = m[0][0] * rr[1] - m[1][0] * rr[0];
+            let u = [w0 * scale, w1 * scale];
+            let x1 = x + (u[0] + u[1]) * self.half;
+            let bau = self.ba[0] * u[0] + self.ba[1] * u[1];
+            let y1 = (yt - self.kh * (x + bau)) + khr;
+            if x1 < -1.0 {
+                return None;
+            }
+            let v1 = (1.0 + y1) - self.kpv * x1;
+            if v1 > v_max || v1 < -v_max {
+                return None;
+            }
+            finite &= (det + scale + u[0] + u[1] + x1 + y1 + v1).is_finite();
+            (x, yt, v) = (x1, y1, v1);
+            s0 += self.inv_m;
+        }
+        finite.then_some((x, yt - shift, v))
+    }
+}
+
+impl<S: Scalar> Gauss<S> {
     /// One Gauss interval with the gap `e` at its two nodes (module docs, "The method").
     #[inline]
     #[allow(clippy::too_many_arguments)]

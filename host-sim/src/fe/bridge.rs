@@ -90,8 +90,13 @@ impl Span {
             self.trial_is_free = false;
         }
         if self.loaded {
-            self.trial.d.copy_from(&self.rhs_free);
-            self.trial.d += &self.load;
+            // d = r + F (nalgebra's `copy_from` and `+=` as slice loops: the same additions).
+            let d = self.trial.d.as_mut_slice();
+            let (r, f) = (self.rhs_free.as_slice(), self.load.as_slice());
+            let (r, f) = (&r[..d.len()], &f[..d.len()]);
+            for (i, d) in d.iter_mut().enumerate() {
+                *d = r[i] + f[i];
+            }
             sys.newmark
                 .solve_in_place(&mut self.trial.d, &mut self.scratch);
             self.trial_is_free = false;
@@ -266,7 +271,7 @@ impl FeGuideway {
     fn distribute(&mut self, loads: &[PointLoad]) {
         for &i in &self.loaded {
             let s = &mut self.spans[i];
-            s.load.fill(0.0);
+            s.load.as_mut_slice().fill(0.0);
             s.loaded = false;
         }
         self.loaded.clear();

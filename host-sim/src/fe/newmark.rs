@@ -12,10 +12,24 @@
 //! ([`SpanNewmark::free_rhs`]), the solve of one right-hand side per Newton–Raphson
 //! iteration, and the velocity and acceleration update done once, on commit
 //! ([`SpanNewmark::finish`]).
+//!
+//! The span's solve ([`SpanNewmark::solve_in_place`]) runs faer's factor through
+//! [`Simplicial`]: a plain loop over the factor's columns, the permutation folded into the
+//! row indices and the diagonal's reciprocals computed once. It performs the operations of
+//! faer's simplicial solve in faer's order, so it gives the same bits (test
+//! `simplicial_solve_gives_faers_bits`) for far fewer instructions (docs/performance.md). A
+//! factor that faer stores supernodally keeps faer's solve.
 
 use super::banded::{SymBanded, SymSparse, ToDense};
 use super::cholesky::{Scratch, SparseCholesky};
 use crate::Error;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering,
+};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Par, Side};
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 
 /// The one-line error for a bad time step.
@@ -152,6 +166,100 @@ pub struct SpanNewmark {
     m: SymSparse,
     c: Option<SymSparse>,
     keff: SparseCholesky,
+    /// The same factor as a plain column loop (`None` when faer stores it supernodally).
+    fast: Option<Simplicial>,
+}
+
+/// A simplicial LLᵀ factor `P A Pᵀ = L Lᵀ` of faer's, for its solve in faer's order of
+/// operations on the caller's vector, in the original numbering (no scratch).
+#[derive(Debug)]
+pub struct Simplicial {
+    /// Per column j (in factor order): its original index, the reciprocal of `L[j, j]` and
+    /// the range of its off-diagonal entries in `entries`.
+    col: Vec<(usize, f64, usize, usize)>,
+    /// Off-diagonal entries `(original row index, L[i, j])`, column by column, in faer's
+    /// stored order.
+    entries: Vec<(usize, f64)>,
+}
+
+impl Simplicial {
+    /// Factorise `a` exactly as [`SparseCholesky::new`] does (same faer calls, hence the same
+    /// factor); `None` if faer chooses a supernodal factor or the factorisation fails.
+    pub fn new(a: &SymBanded) -> Option<Self> {
+        let n = a.nrows();
+        let triplets: Vec<Triplet<usize, usize, f64>> = a
+            .lower_entries()
+            .map(|(i, j, v)| Triplet::new(i, j, v))
+            .collect();
+        let csc = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets).ok()?;
+        let symbolic = factorize_symbolic_cholesky(
+            csc.symbolic(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .ok()?;
+        let mut values = vec![0.0; symbolic.len_val()];
+        let mut buf = MemBuffer::new(
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        );
+        symbolic
+            .factorize_numeric_llt(
+                &mut values,
+                csc.as_ref(),
+                Side::Lower,
+                LltRegularization::default(),
+                Par::Seq,
+                MemStack::new(&mut buf),
+                Default::default(),
+            )
+            .ok()?;
+        let SymbolicCholeskyRaw::Simplicial(simp) = symbolic.raw() else {
+            return None;
+        };
+        // Factor index k is original index fwd[k] (faer: x[k] = rhs[fwd[k]]).
+        let fwd: Vec<usize> = match symbolic.perm() {
+            Some(p) => p.arrays().0.to_vec(),
+            None => (0..n).collect(),
+        };
+        let (cp, ri) = (simp.col_ptr(), simp.row_idx());
+        let mut col = Vec::with_capacity(n);
+        let mut entries = Vec::with_capacity(values.len());
+        for j in 0..n {
+            let (start, end) = (cp[j], cp[j + 1]);
+            // faer stores the diagonal first in each column.
+            if start == end || ri[start] != j {
+                return None;
+            }
+            let first = entries.len();
+            for p in start + 1..end {
+                entries.push((fwd[ri[p]], values[p]));
+            }
+            col.push((fwd[j], values[start].recip(), first, entries.len()));
+        }
+        Some(Simplicial { col, entries })
+    }
+
+    /// x ← A⁻¹ x: faer's `L` solve (x_j ← x_j·(1/L_jj), then x_i −= L_ij·x_j down column j)
+    /// and its `Lᵀ` solve (from the last column, acc = Σ L_ij·x_i over the column's entries in
+    /// reverse stored order, x_j ← (x_j − acc)·(1/L_jj)). No allocation.
+    pub fn solve_in_place(&self, x: &mut [f64]) {
+        assert_eq!(x.len(), self.col.len(), "dimension mismatch");
+        for &(cj, dinv, start, end) in &self.col {
+            let xj = x[cj] * dinv;
+            x[cj] = xj;
+            for &(i, l) in &self.entries[start..end] {
+                x[i] -= l * xj;
+            }
+        }
+        for &(cj, dinv, start, end) in self.col.iter().rev() {
+            let mut acc = 0.0;
+            for &(i, l) in self.entries[start..end].iter().rev() {
+                acc += l * x[i];
+            }
+            x[cj] = (x[cj] - acc) * dinv;
+        }
+    }
 }
 
 impl SpanNewmark {
@@ -184,6 +292,7 @@ impl SpanNewmark {
         if let Some(c) = &c {
             keff = keff.combine(1.0, c, 2.0 / dt);
         }
+        let fast = Simplicial::new(&keff);
         let keff = SparseCholesky::new(&keff)
             .map_err(|e| Error::numerical(format!("effective stiffness: {e}")))?;
         Ok(SpanNewmark {
@@ -191,6 +300,7 @@ impl SpanNewmark {
             m: SymSparse::new(m),
             c: c.as_ref().map(SymSparse::new),
             keff,
+            fast,
         })
     }
 
@@ -228,9 +338,23 @@ impl SpanNewmark {
         }
     }
 
-    /// x ← Keff⁻¹ x. No allocation.
+    /// x ← Keff⁻¹ x ([`Simplicial`] when faer's factor is simplicial, the same bits as
+    /// faer's solve). No allocation.
     pub fn solve_in_place(&self, x: &mut DVector<f64>, scratch: &mut Scratch) {
+        match &self.fast {
+            Some(f) => f.solve_in_place(x.as_mut_slice()),
+            None => self.keff.solve_in_place(x.as_mut_slice(), scratch),
+        }
+    }
+
+    /// x ← Keff⁻¹ x by faer's own solve (the reference of the fast path's test).
+    pub fn solve_in_place_faer(&self, x: &mut DVector<f64>, scratch: &mut Scratch) {
         self.keff.solve_in_place(x.as_mut_slice(), scratch);
+    }
+
+    /// The factor runs through [`Simplicial`].
+    pub fn has_fast_solve(&self) -> bool {
+        self.fast.is_some()
     }
 
     /// Complete the step: with `trial.d` the displacement at t + Δt and `committed` the state
@@ -249,6 +373,79 @@ impl SpanNewmark {
             committed.a[i] = acc1;
             trial.v[i] = v1;
             trial.a[i] = acc1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::assembly::SpanModel;
+    use crate::guideway::BeamSection;
+
+    /// A deterministic pseudo-random vector in [−1, 1) (xorshift), large and small entries.
+    fn vector(n: usize, seed: u64) -> DVector<f64> {
+        let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+        DVector::from_fn(n, |_, _| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            let u = (s >> 11) as f64 / (1u64 << 53) as f64;
+            (2.0 * u - 1.0) * 10f64.powi((s % 7) as i32 - 3)
+        })
+    }
+
+    /// The fast solve gives faer's bits, on the §4.2 span (undamped and Rayleigh-damped, 20
+    /// and 80 elements) and on a block-coupled test matrix.
+    #[test]
+    fn simplicial_solve_gives_faers_bits() {
+        let section = BeamSection::paper_4_2();
+        let mut systems = Vec::new();
+        for elements in [20, 80] {
+            let model = SpanModel::new(&section, 25.0, elements).unwrap();
+            for damping in [
+                None,
+                Some(Rayleigh {
+                    alpha: 0.3,
+                    beta: 1e-4,
+                }),
+            ] {
+                systems.push(SpanNewmark::new(&model.k, &model.m, damping, 1e-3).unwrap());
+            }
+        }
+        let n = 40;
+        let mut a = SymBanded::zeros(n, 4);
+        for j in 0..n {
+            a.add_lower(j, j, 10.0 + j as f64 * 0.1);
+            if j + 2 < n {
+                a.add_lower(j + 2, j, -1.0 - 0.01 * j as f64);
+            }
+            if j + 4 < n && j % 2 == 0 {
+                a.add_lower(j + 4, j, 0.5);
+            }
+        }
+        let zero = SymBanded::zeros(n, 4);
+        systems.push(SpanNewmark::with_damping_matrix(&a, &zero, None, 1e-3).unwrap());
+        for (k, sys) in systems.iter().enumerate() {
+            assert!(
+                sys.has_fast_solve(),
+                "system {k}: faer chose a supernodal factor"
+            );
+            let mut scratch = sys.factor().scratch();
+            let n = sys.factor().nrows();
+            for seed in 1..20 {
+                let b = vector(n, seed + 100 * k as u64);
+                let (mut fast, mut slow) = (b.clone(), b);
+                sys.solve_in_place(&mut fast, &mut scratch);
+                sys.solve_in_place_faer(&mut slow, &mut scratch);
+                for i in 0..n {
+                    assert_eq!(
+                        fast[i].to_bits(),
+                        slow[i].to_bits(),
+                        "system {k}, seed {seed}, entry {i}"
+                    );
+                }
+            }
         }
     }
 }
