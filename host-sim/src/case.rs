@@ -326,11 +326,19 @@ impl Case {
                 "wheel_mass_kg": car.wheel_mass,
                 "com_ahead_m": car.com_ahead,
             }),
-            TrainCase::Maglev { cars, nodes, length } => json!({
+            TrainCase::Maglev {
+                cars,
+                nodes,
+                length,
+            } => json!({
                 "kind": "maglev", "cars": cars, "magnets": nodes, "length_m": length,
                 "car": "Fig. 6 carriage, docs/cars.md",
             }),
-            TrainCase::WheelRail { cars, nodes, length } => json!({
+            TrainCase::WheelRail {
+                cars,
+                nodes,
+                length,
+            } => json!({
                 "kind": "wheel-rail", "cars": cars, "contacts": nodes, "length_m": length,
                 "car": "wheel/rail car, docs/cars.md",
             }),

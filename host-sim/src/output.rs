@@ -66,6 +66,8 @@ pub struct Summary {
     pub unconverged_steps: usize,
     /// Steps in which some magnet's gap was at or below zero.
     pub collision_steps: usize,
+    /// Steps in which some wheel–rail contact lifted off (its force clamped at zero).
+    pub contact_loss_steps: usize,
     /// Each magnet's gap range over the run (m).
     pub gaps: Vec<GapRange>,
     pub peaks: std::collections::BTreeMap<String, Option<Peak>>,
@@ -131,6 +133,7 @@ impl Summary {
             max_iterations: iters.iter().copied().max().unwrap_or(0),
             unconverged_steps: outcome.unconverged_steps,
             collision_steps: outcome.collision_steps,
+            contact_loss_steps: outcome.contact_loss_steps,
             gaps: gap_ranges(&outcome.gap_ranges),
             peaks,
         }

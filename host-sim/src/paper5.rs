@@ -32,6 +32,7 @@ pub struct TrainRun {
     pub pier: Vec<f64>,
     pub steps: usize,
     pub collision_steps: usize,
+    pub contact_loss_steps: usize,
     pub unconverged_steps: usize,
     pub wall: f64,
 }
@@ -70,6 +71,7 @@ pub fn run_train(train: &str, sets: &[String], progress: impl FnMut(f64)) -> Res
         pier: column(PIER)?,
         steps: run.outcome.records.len().saturating_sub(1),
         collision_steps: run.outcome.collision_steps,
+        contact_loss_steps: run.outcome.contact_loss_steps,
         unconverged_steps: run.outcome.unconverged_steps,
         wall: run.wall,
     })
@@ -118,6 +120,12 @@ fn bands_below(a: &[BandLevel], b: &[BandLevel]) -> (usize, usize) {
 pub fn statements(maglev: &TrainLevels, wheel_rail: &TrainLevels) -> Vec<Statement> {
     let top = |l: &[BandLevel]| top_band(l).map_or(f64::NAN, |b| b.band.nominal_hz());
     let mut out = Vec::new();
+    let at = |l: &[BandLevel], hz: f64| {
+        l.iter()
+            .find(|b| b.band.nominal_hz() == hz)
+            .map_or(f64::NAN, |b| b.level_db)
+    };
+    let peak_db = |l: &[BandLevel]| top_band(l).map_or(f64::NAN, |b| b.level_db);
     for (point, lv) in [("carriage", &maglev.carriage), ("pier", &maglev.pier)] {
         let f = top(lv);
         out.push(Statement {
@@ -125,14 +133,29 @@ pub fn statements(maglev: &TrainLevels, wheel_rail: &TrainLevels) -> Vec<Stateme
                 "the maglev train's top band at the {point} is the 50 Hz band (its magnets pass every 1.5625 m: 83.33/1.5625 = 53.3 Hz)"
             ),
             holds: f == 50.0,
-            measured: format!("top band {f} Hz"),
+            measured: format!(
+                "top band {f} Hz at {:.1} dB; the 50 Hz band {:.1} dB",
+                peak_db(lv),
+                at(lv, 50.0)
+            ),
         });
     }
     let f = top(&wheel_rail.pier);
+    let low: Vec<BandLevel> = wheel_rail
+        .pier
+        .iter()
+        .copied()
+        .filter(|b| b.band.nominal_hz() <= 10.0)
+        .collect();
     out.push(Statement {
         claim: "the wheel/rail train's pier energy lies in the 2.5–4 Hz bands (25 m cars: 83.33/25 = 3.3 Hz)".into(),
         holds: [2.5, 3.15, 4.0].contains(&f),
-        measured: format!("top band {f} Hz"),
+        measured: format!(
+            "top band {f} Hz at {:.1} dB; up to 10 Hz the top band is {} Hz at {:.1} dB",
+            peak_db(&wheel_rail.pier),
+            top(&low),
+            peak_db(&low)
+        ),
     });
     for (point, a, b) in [
         ("carriage", &maglev.carriage, &wheel_rail.carriage),
@@ -222,11 +245,12 @@ pub fn markdown(
     for r in runs {
         let _ = writeln!(
             md,
-            "| {} | {} | {:.1} | {} | {} | {:.4e} | {:.4e} |",
+            "| {} | {} | {:.1} | {} / {} | {} | {:.4e} | {:.4e} |",
             r.train,
             r.steps,
             r.wall,
             r.collision_steps,
+            r.contact_loss_steps,
             r.unconverged_steps,
             peak(&r.carriage),
             peak(&r.pier)

@@ -55,6 +55,12 @@ pub fn warn(outcome: &Outcome) {
             outcome.unconverged_steps
         );
     }
+    if outcome.contact_loss_steps > 0 {
+        eprintln!(
+            "maglev: warning: {} step(s) in which some wheel lifted off the rail (its contact force held at zero)",
+            outcome.contact_loss_steps
+        );
+    }
     if outcome.collision_steps > 0 {
         let first = outcome.records.iter().find(|r| r.collision).map(|r| r.t);
         eprintln!(
