@@ -962,12 +962,7 @@ fn probes(sc: &Scenario, bridge: &Bridge, train: &TrainCase) -> Result<Probes> {
             magnets: false,
         },
     };
-    Probes::new(sc.output.as_ref().map(|o| o.probes.as_slice()), &extent).map_err(|e| {
-        match e.split_once(": ") {
-            Some((k, reason)) => Error::invalid(k, reason),
-            None => Error::invalid("output.probes", e),
-        }
-    })
+    Probes::new(sc.output.as_ref().map(|o| o.probes.as_slice()), &extent)
 }
 
 #[cfg(test)]
