@@ -919,13 +919,13 @@ fn law(
             TrainCase::Fig1 { car, .. } => {
                 let v = VehicleModel::fig1(car, GRAVITY)?;
                 crate::stability::design::design(&v, controller, geometry, Some(dt))
-                    .map_err(|e| Error::invalid("controller.law", e))?
+                    .map_err(|e| Error::invalid("controller.law", e.to_string()))?
                     .gains
             }
             TrainCase::Maglev { .. } => {
                 let t = Train::fig6(1, GRAVITY)?;
                 crate::stability::design::design(&t.cars[0], controller, geometry, Some(dt))
-                    .map_err(|e| Error::invalid("controller.law", e))?
+                    .map_err(|e| Error::invalid("controller.law", e.to_string()))?
                     .gains
             }
             TrainCase::Forces(_) | TrainCase::WheelRail { .. } => GapParams::designed(),
