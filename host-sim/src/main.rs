@@ -45,20 +45,19 @@ enum Command {
 /// Exit status: 0 done, 2 an error (one line on stderr), 3 `run --strict` refused the run.
 fn main() -> ExitCode {
     let args = Cli::parse();
-    let msg = anyhow::Error::msg;
     let result: anyhow::Result<()> = match args.command {
         Command::Control(a) => cli::control::run(a),
-        Command::Irregularity(a) => cli::irregularity::run(a).map_err(msg),
+        Command::Irregularity(a) => cli::irregularity::run(a).map_err(anyhow::Error::from),
         Command::Run(a) => match cli::run::run(a) {
             Ok(true) => Ok(()),
             Ok(false) => return ExitCode::from(3),
             Err(e) => Err(e),
         },
-        Command::Modes(a) => cli::modes::run(a).map_err(msg),
+        Command::Modes(a) => cli::modes::run(a).map_err(anyhow::Error::from),
         Command::Validate(a) => cli::validate::run_cmd(a),
         Command::Stability(a) => cli::stability::run(a).map_err(anyhow::Error::from),
         Command::Hil(a) => cli::hil::run(a),
-        Command::Bands(a) => cli::bands::run(a).map_err(msg),
+        Command::Bands(a) => cli::bands::run(a).map_err(anyhow::Error::from),
         Command::Report(a) => cli::report::run(a),
         Command::Sweep(a) => cli::sweep::run(a).map_err(anyhow::Error::from),
     };
