@@ -57,7 +57,7 @@ fn main() -> ExitCode {
         Command::Validate(a) => cli::validate::run_cmd(a),
         Command::Stability(a) => cli::stability::run(a).map_err(anyhow::Error::from),
         Command::Hil(a) => cli::hil::run(a),
-        Command::Bands(a) => cli::bands::run(a).map_err(anyhow::Error::from),
+        Command::Bands(a) => cli::bands::run(a),
         Command::Report(a) => cli::report::run(a),
         Command::Sweep(a) => cli::sweep::run(a).map_err(anyhow::Error::from),
     };

@@ -7,7 +7,7 @@ use std::io::{BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use crate::bands::{self, Averaging, Level, Quantity, Settings};
-use crate::{Error, Result};
+use crate::Error;
 
 /// What the input column holds.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,18 +66,22 @@ fn settings(a: &Args) -> Settings {
     }
 }
 
-/// Run the subcommand.
-pub fn run(a: Args) -> Result<()> {
+/// Run the subcommand (the open error of `--input` is given as such).
+pub fn run(a: Args) -> anyhow::Result<()> {
+    use anyhow::Context as _;
     if let Some(w) = a.running {
         if !(w.is_finite() && w > 0.0) {
             return Err(Error::invalid(
                 "--running",
                 format!("must be a positive number of seconds, got {w}"),
-            ));
+            )
+            .into());
         }
     }
     let s = settings(&a);
-    let file = File::open(&a.input).map_err(|e| Error::io(&a.input, e))?;
+    let file = File::open(&a.input)
+        .map_err(|e| Error::io(&a.input, e))
+        .context("--input")?;
     let h = bands::read_history(BufReader::new(file), &a.column)
         .map_err(|e| Error::parse(format!("--input {}", a.input.display()), e))?;
     let levels = bands::analyse(&h.values, h.dt, &s).map_err(|e| match e {
@@ -92,11 +96,11 @@ pub fn run(a: Args) -> Result<()> {
     match &a.out {
         Some(path) => {
             let f = File::create(path).map_err(|e| Error::io(path, e))?;
-            write(&mut BufWriter::new(f), path)
+            Ok(write(&mut BufWriter::new(f), path)?)
         }
-        None => write(
+        None => Ok(write(
             &mut BufWriter::new(std::io::stdout().lock()),
             Path::new("stdout"),
-        ),
+        )?),
     }
 }
