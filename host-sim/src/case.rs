@@ -919,13 +919,13 @@ fn law(
             TrainCase::Fig1 { car, .. } => {
                 let v = VehicleModel::fig1(car, GRAVITY)?;
                 crate::stability::design::design(&v, controller, geometry, Some(dt))
-                    .map_err(|e| Error::invalid("controller.law", e))?
+                    .map_err(|e| Error::invalid("controller.law", e.to_string()))?
                     .gains
             }
             TrainCase::Maglev { .. } => {
                 let t = Train::fig6(1, GRAVITY)?;
                 crate::stability::design::design(&t.cars[0], controller, geometry, Some(dt))
-                    .map_err(|e| Error::invalid("controller.law", e))?
+                    .map_err(|e| Error::invalid("controller.law", e.to_string()))?
                     .gains
             }
             TrainCase::Forces(_) | TrainCase::WheelRail { .. } => GapParams::designed(),
@@ -962,12 +962,7 @@ fn probes(sc: &Scenario, bridge: &Bridge, train: &TrainCase) -> Result<Probes> {
             magnets: false,
         },
     };
-    Probes::new(sc.output.as_ref().map(|o| o.probes.as_slice()), &extent).map_err(|e| {
-        match e.split_once(": ") {
-            Some((k, reason)) => Error::invalid(k, reason),
-            None => Error::invalid("output.probes", e),
-        }
-    })
+    Probes::new(sc.output.as_ref().map(|o| o.probes.as_slice()), &extent)
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 //! The host never re-implements the law: it converts SI to the core's per-unit run-time type
 //! at the edge, calls `Levitation::update` once per trace row and converts back.
 
+use crate::{Error, Result};
 use maglev_core::scalar::{I32F32, I4F28};
 use maglev_core::{Params, Scalar, Status};
 use std::fmt::Write as _;
@@ -25,17 +26,19 @@ pub struct Trace {
 }
 
 /// Parses a `t,h` CSV, checking the header, numbers and the uniformity of the step.
-pub fn parse_trace(text: &str, name: &str) -> Result<Trace, String> {
+pub fn parse_trace(text: &str, name: &str) -> Result<Trace> {
     let mut lines = text
         .lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty());
-    let (_, header) = lines.next().ok_or_else(|| format!("{name}: empty file"))?;
+    let (_, header) = lines
+        .next()
+        .ok_or_else(|| Error::parse(name, "empty file"))?;
     let cols: Vec<&str> = header.split(',').map(str::trim).collect();
     if cols != ["t", "h"] {
-        return Err(format!(
-            "{name}: header must be exactly `t,h`, found `{}`",
-            header.trim()
+        return Err(Error::parse(
+            name,
+            format!("header must be exactly `t,h`, found `{}`", header.trim()),
         ));
     }
     let (mut t, mut h) = (Vec::new(), Vec::new());
@@ -43,17 +46,23 @@ pub fn parse_trace(text: &str, name: &str) -> Result<Trace, String> {
         let row = i + 1;
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
         if fields.len() != 2 {
-            return Err(format!(
-                "{name}: line {row}: expected 2 fields `t,h`, found {}",
-                fields.len()
+            return Err(Error::parse(
+                name,
+                format!(
+                    "line {row}: expected 2 fields `t,h`, found {}",
+                    fields.len()
+                ),
             ));
         }
-        let num = |s: &str, col: &str| -> Result<f64, String> {
-            let v: f64 = s
-                .parse()
-                .map_err(|_| format!("{name}: line {row}: {col} = `{s}` is not a number"))?;
+        let num = |s: &str, col: &str| -> Result<f64> {
+            let v: f64 = s.parse().map_err(|_| {
+                Error::parse(name, format!("line {row}: {col} = `{s}` is not a number"))
+            })?;
             if !v.is_finite() {
-                return Err(format!("{name}: line {row}: {col} = `{s}` is not finite"));
+                return Err(Error::parse(
+                    name,
+                    format!("line {row}: {col} = `{s}` is not finite"),
+                ));
             }
             Ok(v)
         };
@@ -61,17 +70,17 @@ pub fn parse_trace(text: &str, name: &str) -> Result<Trace, String> {
         h.push(num(fields[1], "h")?);
     }
     if t.len() < 2 {
-        return Err(format!(
-            "{name}: needs at least two rows to define a time step"
+        return Err(Error::parse(
+            name,
+            "needs at least two rows to define a time step",
         ));
     }
     let n = t.len();
     let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
     if dt.is_nan() || dt <= 0.0 {
-        return Err(format!(
-            "{name}: time must increase (t from {} to {})",
-            t[0],
-            t[n - 1]
+        return Err(Error::parse(
+            name,
+            format!("time must increase (t from {} to {})", t[0], t[n - 1]),
         ));
     }
     // Uniform to within what decimal text of the times can hold.
@@ -79,9 +88,12 @@ pub fn parse_trace(text: &str, name: &str) -> Result<Trace, String> {
     for k in 1..n {
         let step = t[k] - t[k - 1];
         if (step - dt).abs() > tol {
-            return Err(format!(
-                "{name}: non-uniform time step at line {}: {step} s where the mean step is {dt} s",
-                k + 2
+            return Err(Error::parse(
+                name,
+                format!(
+                    "non-uniform time step at line {}: {step} s where the mean step is {dt} s",
+                    k + 2
+                ),
             ));
         }
     }
@@ -102,8 +114,10 @@ pub struct Row {
 
 /// Runs the core on a trace in scalar type `S`. Row 0 is the initial (equilibrium) state.
 /// Arithmetic overflow is an error naming the time: the numbers would not be trustworthy.
-pub fn run_trace<S: Scalar>(params: &Params, trace: &Trace) -> Result<Vec<Row>, String> {
-    let ctrl = params.compile::<S>().map_err(|e| e.to_string())?;
+pub fn run_trace<S: Scalar>(params: &Params, trace: &Trace) -> Result<Vec<Row>> {
+    let ctrl = params
+        .compile::<S>()
+        .map_err(|e| Error::invalid("controller", e.to_string()))?;
     let mut st = ctrl.initial_state(trace.h[0]);
     let mut rows = Vec::with_capacity(trace.t.len());
     let mut out = ctrl.output(&st);
@@ -113,11 +127,11 @@ pub fn run_trace<S: Scalar>(params: &Params, trace: &Trace) -> Result<Vec<Row>, 
             let h_pu = ctrl.gap_pu(h, &mut ov);
             out = ctrl.update(&mut st, h_pu);
             if ov || out.status.contains(Status::OVERFLOW) {
-                return Err(format!(
+                return Err(Error::numerical(format!(
                     "{} overflowed at t = {t} s (h = {h} m): the type's range cannot carry this \
                      trace; use i32f32 or f64",
                     S::NAME
-                ));
+                )));
             }
         }
         let si = ctrl.to_si(&out);
@@ -135,7 +149,7 @@ pub fn run_trace<S: Scalar>(params: &Params, trace: &Trace) -> Result<Vec<Row>, 
 }
 
 /// Runs the trace in the chosen scalar type.
-pub fn run_trace_as(kind: ScalarKind, params: &Params, trace: &Trace) -> Result<Vec<Row>, String> {
+pub fn run_trace_as(kind: ScalarKind, params: &Params, trace: &Trace) -> Result<Vec<Row>> {
     match kind {
         ScalarKind::F64 => run_trace::<f64>(params, trace),
         ScalarKind::F32 => run_trace::<f32>(params, trace),
@@ -167,18 +181,23 @@ mod tests {
         assert!(parse_trace("t,h\n0,0.01\n0.001,0.01\n", "x").is_ok());
         assert!(parse_trace("time,h\n0,0.01\n", "x")
             .unwrap_err()
+            .to_string()
             .contains("header"));
         assert!(parse_trace("t,h\n0,0.01\n0.001,0.01\n0.003,0.01\n", "x")
             .unwrap_err()
+            .to_string()
             .contains("non-uniform"));
         assert!(parse_trace("t,h\n0,0.01\n0.001,nan\n", "x")
             .unwrap_err()
+            .to_string()
             .contains("not finite"));
         assert!(parse_trace("t,h\n0,0.01\n0.001,abc\n", "x")
             .unwrap_err()
+            .to_string()
             .contains("not a number"));
         assert!(parse_trace("t,h\n0,0.01\n", "x")
             .unwrap_err()
+            .to_string()
             .contains("two rows"));
     }
 }

@@ -45,31 +45,37 @@ enum Command {
 /// Exit status: 0 done, 2 an error (one line on stderr), 3 `run --strict` refused the run.
 fn main() -> ExitCode {
     let args = Cli::parse();
-    let msg = anyhow::Error::msg;
     let result: anyhow::Result<()> = match args.command {
-        Command::Control(a) => cli::control::run(a).map_err(msg),
-        Command::Irregularity(a) => cli::irregularity::run(a).map_err(msg),
+        Command::Control(a) => cli::control::run(a),
+        Command::Irregularity(a) => cli::irregularity::run(a).map_err(anyhow::Error::from),
         Command::Run(a) => match cli::run::run(a) {
             Ok(true) => Ok(()),
             Ok(false) => return ExitCode::from(3),
             Err(e) => Err(e),
         },
-        Command::Modes(a) => cli::modes::run(a).map_err(msg),
+        Command::Modes(a) => cli::modes::run(a).map_err(anyhow::Error::from),
         Command::Validate(a) => cli::validate::run_cmd(a),
-        Command::Stability(a) => cli::stability::run(a).map_err(msg),
+        Command::Stability(a) => cli::stability::run(a).map_err(anyhow::Error::from),
         Command::Hil(a) => cli::hil::run(a),
-        Command::Bands(a) => cli::bands::run(a).map_err(msg),
+        Command::Bands(a) => cli::bands::run(a),
         Command::Report(a) => cli::report::run(a),
         Command::Sweep(a) => cli::sweep::run(a).map_err(anyhow::Error::from),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            // One line: the causes joined, as the library words them.
-            let line = format!("{e:#}")
-                .split_whitespace()
-                .collect::<Vec<_>>()
-                .join(" ");
+            // One line: the causes joined, as the library words them (a cause the message
+            // already ends with, such as an I/O error's, only once).
+            let mut joined = String::new();
+            for cause in e.chain().map(|c| c.to_string()) {
+                if !joined.ends_with(&cause) {
+                    if !joined.is_empty() {
+                        joined.push_str(": ");
+                    }
+                    joined.push_str(&cause);
+                }
+            }
+            let line = joined.split_whitespace().collect::<Vec<_>>().join(" ");
             eprintln!("maglev: error: {line}");
             ExitCode::from(2)
         }

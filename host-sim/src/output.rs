@@ -158,8 +158,10 @@ pub fn response_recorder(
 ) -> Result<CsvRecorder<std::io::BufWriter<std::fs::File>>> {
     let p = dir.path("response.csv");
     let f = std::fs::File::create(&p).map_err(|e| Error::io(&p, e))?;
-    CsvRecorder::new(probes, std::io::BufWriter::new(f))
-        .map_err(|e| Error::io(&p, std::io::Error::other(e)))
+    CsvRecorder::new(probes, std::io::BufWriter::new(f)).map_err(|e| match e {
+        Error::Io { source, .. } => Error::io(&p, source),
+        e => e,
+    })
 }
 
 /// Writes `summary.json`, `profile.csv` and one SVG per history into the run's staging

@@ -26,6 +26,7 @@
 use crate::guideway::Guideway;
 use crate::simulation::magnet_gaps;
 use crate::vehicle::Node;
+use crate::{Error, Result};
 use std::io::Write;
 
 /// The columns of a run without `[output] probes`.
@@ -103,22 +104,27 @@ pub struct Extent {
     pub magnets: bool,
 }
 
-fn index(s: &str, prefix: &str, name: &str, limit: usize) -> Result<usize, String> {
+/// A bad probe: the key is `output.probes`, the reason names the probe and the limit.
+fn bad_probe(reason: String) -> Error {
+    Error::invalid("output.probes", reason)
+}
+
+fn index(s: &str, prefix: &str, name: &str, limit: usize) -> Result<usize> {
     let k: usize = s
         .strip_prefix(prefix)
         .and_then(|n| n.parse().ok())
         .filter(|&k| k >= 1)
-        .ok_or_else(|| format!("output.probes: `{name}`: expected {prefix}N with N from 1"))?;
+        .ok_or_else(|| bad_probe(format!("`{name}`: expected {prefix}N with N from 1")))?;
     if k > limit {
-        return Err(format!(
-            "output.probes: `{name}`: the case has {limit} {prefix}(s), so N is at most {limit}"
-        ));
+        return Err(bad_probe(format!(
+            "`{name}`: the case has {limit} {prefix}(s), so N is at most {limit}"
+        )));
     }
     Ok(k - 1)
 }
 
 /// Parses one probe name against the case's extent.
-pub fn parse(name: &str, e: &Extent) -> Result<Probe, String> {
+pub fn parse(name: &str, e: &Extent) -> Result<Probe> {
     let alias = match name {
         "midspan_y" => "span1.midspan.y",
         "midspan_z" => "span1.midspan.z",
@@ -131,9 +137,9 @@ pub fn parse(name: &str, e: &Extent) -> Result<Probe, String> {
     };
     let parts: Vec<&str> = alias.split('.').collect();
     let bad = || {
-        format!(
-            "output.probes: unknown probe `{name}` (span{{K}}.midspan.{{y,z,rx}}, wheel{{N}}.{{y,z,gap_y,gap_z,force_z}}, car{{N}}.body.{{z,az}}, pier{{K}}.base.{{z,az}})"
-        )
+        bad_probe(format!(
+            "unknown probe `{name}` (span{{K}}.midspan.{{y,z,rx}}, wheel{{N}}.{{y,z,gap_y,gap_z,force_z}}, car{{N}}.body.{{z,az}}, pier{{K}}.base.{{z,az}})"
+        ))
     };
     match parts.as_slice() {
         [s, "midspan", q] if s.starts_with("span") => {
@@ -158,9 +164,9 @@ pub fn parse(name: &str, e: &Extent) -> Result<Probe, String> {
                 _ => return Err(bad()),
             };
             if !e.magnets && matches!(q, WheelQ::GapY | WheelQ::GapZ) {
-                return Err(format!(
-                    "output.probes: `{name}`: the loads of a forces train have no gaps"
-                ));
+                return Err(bad_probe(format!(
+                    "`{name}`: the loads of a forces train have no gaps"
+                )));
             }
             Ok(Probe::Wheel {
                 wheel: index(w, "wheel", name, e.wheels)?,
@@ -202,10 +208,10 @@ pub struct Probes {
 
 impl Probes {
     /// `names` (or [`DEFAULT`] when `None`), each checked against the case.
-    pub fn new(names: Option<&[String]>, e: &Extent) -> Result<Self, String> {
+    pub fn new(names: Option<&[String]>, e: &Extent) -> Result<Self> {
         let names: Vec<String> = match names {
             Some(n) if !n.is_empty() => n.to_vec(),
-            Some(_) => return Err("output.probes must name at least one probe".into()),
+            Some(_) => return Err(bad_probe("must name at least one probe".into())),
             None => DEFAULT.iter().map(|s| s.to_string()).collect(),
         };
         let mut probes = Vec::with_capacity(names.len());
@@ -225,14 +231,14 @@ impl Probes {
 
     /// Checks the probes that only the guideway can answer (`pier{K}`) against it: one
     /// line naming the probe and the limit.
-    pub fn check_guideway(&self, g: &dyn Guideway) -> Result<(), String> {
+    pub fn check_guideway(&self, g: &dyn Guideway) -> Result<()> {
         for (name, p) in self.names.iter().zip(&self.probes) {
             if let Probe::Pier { pier, .. } = *p {
                 if g.pier_base(pier + 1).is_none() {
                     let n = (1..=pier).take_while(|&k| g.pier_base(k).is_some()).count();
-                    return Err(format!(
-                        "output.probes: `{name}`: the guideway has {n} pier(s), so K is at most {n}"
-                    ));
+                    return Err(bad_probe(format!(
+                        "`{name}`: the guideway has {n} pier(s), so K is at most {n}"
+                    )));
                 }
             }
         }
@@ -347,7 +353,7 @@ impl StepView<'_> {
 
 /// Where each committed step goes.
 pub trait Recorder {
-    fn record(&mut self, step: &StepView) -> Result<(), String>;
+    fn record(&mut self, step: &StepView) -> Result<()>;
 }
 
 /// Keeps every step's probe values in memory, one row per committed step (tests, studies
@@ -373,7 +379,7 @@ impl Rows {
 }
 
 impl Recorder for Rows {
-    fn record(&mut self, step: &StepView) -> Result<(), String> {
+    fn record(&mut self, step: &StepView) -> Result<()> {
         let row = self.probes.probes.iter().map(|p| step.value(p)).collect();
         self.rows.push(row);
         Ok(())
@@ -384,10 +390,13 @@ impl Recorder for Rows {
 pub struct NoRecorder;
 
 impl Recorder for NoRecorder {
-    fn record(&mut self, _step: &StepView) -> Result<(), String> {
+    fn record(&mut self, _step: &StepView) -> Result<()> {
         Ok(())
     }
 }
+
+/// The file a [`CsvRecorder`] names in its errors.
+pub const RESPONSE_CSV: &str = "response.csv";
 
 /// Streams `t, <probes…>, iterations, collision` rows to a CSV file (SI; shortest round-trip
 /// decimals; not-applicable values empty).
@@ -398,26 +407,30 @@ pub struct CsvRecorder<W: Write> {
 }
 
 impl<W: Write> CsvRecorder<W> {
-    /// Writes the header.
-    pub fn new(probes: Probes, sink: W) -> Result<Self, String> {
+    /// Writes the header. A failed write is an [`Error::Io`] on `response.csv` (the caller
+    /// that knows the file's path may replace it).
+    pub fn new(probes: Probes, sink: W) -> Result<Self> {
         let mut out = csv::Writer::from_writer(sink);
         let mut header = vec!["t".to_string()];
         header.extend(probes.names.iter().cloned());
         header.push("iterations".into());
         header.push("collision".into());
-        out.write_record(&header).map_err(|e| e.to_string())?;
+        out.write_record(&header)
+            .map_err(|e| Error::io(RESPONSE_CSV, e.into()))?;
         let cell = vec![String::new(); header.len()];
         Ok(CsvRecorder { probes, out, cell })
     }
 
     /// Flushes and returns the sink.
-    pub fn finish(self) -> Result<W, String> {
-        self.out.into_inner().map_err(|e| e.to_string())
+    pub fn finish(self) -> Result<W> {
+        self.out
+            .into_inner()
+            .map_err(|e| Error::io(RESPONSE_CSV, e.into_error()))
     }
 }
 
 impl<W: Write> Recorder for CsvRecorder<W> {
-    fn record(&mut self, step: &StepView) -> Result<(), String> {
+    fn record(&mut self, step: &StepView) -> Result<()> {
         use std::fmt::Write as _;
         let n = self.probes.probes.len();
         for c in &mut self.cell {
@@ -434,7 +447,7 @@ impl<W: Write> Recorder for CsvRecorder<W> {
         let _ = write!(self.cell[n + 2], "{}", u8::from(step.collision));
         self.out
             .write_record(&self.cell)
-            .map_err(|e| format!("cannot write response.csv: {e}"))
+            .map_err(|e| Error::io(RESPONSE_CSV, e.into()))
     }
 }
 
@@ -449,59 +462,72 @@ mod tests {
         magnets: true,
     };
 
+    /// The message of a refused probe name; every refusal is `Invalid` on `output.probes`.
+    fn refused(name: &str, e: &Extent) -> String {
+        match parse(name, e).unwrap_err() {
+            Error::Invalid { key, reason } => {
+                assert_eq!(key, "output.probes", "{reason}");
+                reason
+            }
+            other => panic!("{name}: not an Invalid error: {other}"),
+        }
+    }
+
     #[test]
     fn names_parse_and_are_checked_against_the_case() {
         assert_eq!(
-            parse("span3.midspan.rx", &E),
-            Ok(Probe::Midspan {
+            parse("span3.midspan.rx", &E).unwrap(),
+            Probe::Midspan {
                 span: 2,
                 q: SectionQ::Rx
-            })
+            }
         );
-        assert_eq!(parse("midspan_z", &E), parse("span1.midspan.z", &E));
         assert_eq!(
-            parse("wheel4.gap_y", &E),
-            Ok(Probe::Wheel {
+            parse("midspan_z", &E).unwrap(),
+            parse("span1.midspan.z", &E).unwrap()
+        );
+        assert_eq!(
+            parse("wheel4.gap_y", &E).unwrap(),
+            Probe::Wheel {
                 wheel: 3,
                 q: WheelQ::GapY
-            })
+            }
         );
         assert_eq!(
-            parse("car1.body.az", &E),
-            Ok(Probe::Body {
+            parse("car1.body.az", &E).unwrap(),
+            Probe::Body {
                 car: 0,
                 q: BodyQ::Az
-            })
+            }
         );
-        let e = parse("span4.midspan.z", &E).unwrap_err();
-        assert!(e.contains("at most 3"), "{e}");
-        let e = parse("wheel0.z", &E).unwrap_err();
+        assert_eq!(
+            parse("span4.midspan.z", &E).unwrap_err().to_string(),
+            "output.probes: `span4.midspan.z`: the case has 3 span(s), so N is at most 3"
+        );
+        let e = refused("wheel0.z", &E);
         assert!(e.contains("from 1"), "{e}");
-        assert!(parse("wheel1.colour", &E)
-            .unwrap_err()
-            .contains("unknown probe"));
-        assert!(parse("car2.body.z", &E).is_err());
+        assert!(refused("wheel1.colour", &E).contains("unknown probe"));
+        assert!(refused("car2.body.z", &E).contains("at most 1"));
         let forces = Extent {
             magnets: false,
             cars: 0,
             ..E
         };
-        assert!(parse("wheel1.gap_z", &forces)
-            .unwrap_err()
-            .contains("no gaps"));
+        assert!(refused("wheel1.gap_z", &forces).contains("no gaps"));
         assert!(parse("car1.body.z", &forces).is_err());
         assert_eq!(
-            parse("pier20.base.az", &E),
-            Ok(Probe::Pier {
+            parse("pier20.base.az", &E).unwrap(),
+            Probe::Pier {
                 pier: 19,
                 q: PierQ::Az
-            })
+            }
         );
-        assert!(parse("pier0.base.z", &E).unwrap_err().contains("from 1"));
-        assert!(parse("pier2.base.y", &E)
-            .unwrap_err()
-            .contains("unknown probe"));
-        assert!(Probes::new(Some(&[]), &E).is_err());
+        assert!(refused("pier0.base.z", &E).contains("from 1"));
+        assert!(refused("pier2.base.y", &E).contains("unknown probe"));
+        assert_eq!(
+            Probes::new(Some(&[]), &E).unwrap_err().to_string(),
+            "output.probes: must name at least one probe"
+        );
         assert_eq!(Probes::new(None, &E).unwrap().names.len(), DEFAULT.len());
     }
 }

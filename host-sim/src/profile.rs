@@ -8,6 +8,7 @@
 //! shortest wavelength 2π/ω_u = 1 m the interpolation error is below 1e-6 of the shortest
 //! component's amplitude (checked against the direct sum in the tests below).
 
+use crate::{Error, Result};
 use maglev_core::irregularity::{Direction, Irregularity, PsdParams};
 use maglev_core::irregularity_fast::Table;
 
@@ -22,19 +23,22 @@ pub struct Profile {
 
 impl Profile {
     /// Samples the Table 1 profile of `direction` for `seed` over `[x_min, x_max]`.
-    pub fn table1(direction: Direction, seed: u64, x_min: f64, x_max: f64) -> Result<Self, String> {
+    /// A generator the core refuses, or an extent that gives no grid, is `Invalid` on
+    /// `irregularity`.
+    pub fn table1(direction: Direction, seed: u64, x_min: f64, x_max: f64) -> Result<Self> {
         let params = PsdParams::table1(direction);
         let x0 = x_min - 2.0 * GRID;
         let g = Irregularity::<f64>::with_origin(&params, direction, seed, x0)
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| Error::invalid("irregularity", e.to_string()))?;
         let n = ((x_max - x0) / GRID).ceil() as usize + 4;
         let mut r = vec![0.0; n];
         sweep::<()>(&g, GRID, n, |j, _x, v| {
             r[j] = v;
             Ok(())
         })
-        .map_err(|_| "irregularity sweep failed".to_string())?;
-        let table = Table::new(x0, GRID, r).map_err(|e| format!("{e:?}"))?;
+        .map_err(|_| Error::numerical("irregularity sweep failed"))?;
+        let table = Table::new(x0, GRID, r)
+            .map_err(|e| Error::invalid("irregularity", format!("{e:?}")))?;
         Ok(Profile { table })
     }
 

@@ -175,10 +175,7 @@ fn profiles_for(case: &Case, load: &Load) -> Result<Profiles> {
     let x0s = x0s.iter().copied();
     let x_min = x0s.clone().fold(f64::INFINITY, f64::min) - 1.0;
     let x_max = x0s.fold(f64::NEG_INFINITY, f64::max) + case.speed * case.t_end + 1.0;
-    let table = |d| {
-        Profile::table1(d, seed, x_min, x_max)
-            .map_err(|e| Error::invalid("irregularity", e.to_string()))
-    };
+    let table = |d| Profile::table1(d, seed, x_min, x_max);
     let y = table(Direction::Y)?;
     let z = table(Direction::Z)?;
     Ok(Profiles {
@@ -216,12 +213,7 @@ pub fn simulate(
     progress: impl FnMut(f64),
 ) -> Result<Run> {
     let mut p = Passage::new(case)?;
-    case.probes
-        .check_guideway(&p.guideway)
-        .map_err(|e| match e.split_once(": ") {
-            Some((k, reason)) => Error::invalid(k, reason),
-            None => Error::invalid("output.probes", e),
-        })?;
+    case.probes.check_guideway(&p.guideway)?;
     let start = Instant::now();
     let (outcome, events) = match controllers {
         Controllers::Core => (
@@ -244,8 +236,7 @@ pub fn simulate(
             };
             let s = &p.settings;
             let gaps0 = initial_gaps(v, &p.profiles, s.controller.h0);
-            let mut magnets =
-                FirmwareMagnets::new(v, &gaps0, s, settings, link).map_err(Error::Firmware)?;
+            let mut magnets = FirmwareMagnets::new(v, &gaps0, s, settings, link)?;
             let run = couple(
                 &mut p.guideway,
                 v,

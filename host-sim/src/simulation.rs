@@ -30,24 +30,6 @@ use maglev_core::gap_control::GapParams;
 use maglev_core::{Params, Status};
 use train::TrainState;
 
-/// Lifts the `String` errors of the interfaces not yet converted (recorders, magnets behind a
-/// link) into [`Error`]; a no-op on the converted ones.
-trait Lift<T> {
-    fn lift(self) -> Result<T>;
-}
-
-impl<T> Lift<T> for std::result::Result<T, String> {
-    fn lift(self) -> Result<T> {
-        self.map_err(Error::numerical)
-    }
-}
-
-impl<T> Lift<T> for Result<T> {
-    fn lift(self) -> Result<T> {
-        self
-    }
-}
-
 /// What runs over the guideway.
 pub enum Load {
     /// Constant vertical forces moving with the run's speed (a `forces` train, or the single
@@ -250,7 +232,7 @@ pub fn simulate<G: Guideway>(
                     collision: false,
                 })
             };
-            record(0.0, guideway, &points, 0).lift()?;
+            record(0.0, guideway, &points, 0)?;
             for n in 1..=steps {
                 let t = n as f64 * dt;
                 for ((l, f), p) in loads.iter_mut().zip(forces).zip(points.iter_mut()) {
@@ -259,7 +241,7 @@ pub fn simulate<G: Guideway>(
                 }
                 guideway.solve_step(&loads);
                 guideway.commit();
-                record(t, guideway, &points, 1).lift()?;
+                record(t, guideway, &points, 1)?;
                 let m = guideway.motion_at(loads[0].x, first.ey, first.ez);
                 records.push(Record {
                     t,
@@ -401,8 +383,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
         },
         iterations: 0,
         collision: false,
-    })
-    .lift()?;
+    })?;
     let mut f = vec![(0.0, 0.0); nw];
     let mut loads = vec![PointLoad::default(); nw + nc];
     let mut gaps_used = vec![(0.0, 0.0); nw];
@@ -454,9 +435,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
         let mut lost;
         loop {
             iterations += 1;
-            magnets
-                .forces(step, t, &gaps_prev, &current, &mut forces)
-                .lift()?;
+            magnets.forces(step, t, &gaps_prev, &current, &mut forces)?;
             for (i, w) in v.wheels.iter().enumerate() {
                 let (gz, gy) = forces[i];
                 f[i] = (gz - v.p0[i], gy);
@@ -515,7 +494,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
                 break;
             }
         }
-        magnets.commit(step, t).lift()?;
+        magnets.commit(step, t)?;
         guideway.commit();
         veh.commit();
         gaps_prev.copy_from_slice(&gaps_used);
@@ -549,8 +528,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             },
             iterations,
             collision,
-        })
-        .lift()?;
+        })?;
         let (wheel1_y, wheel1_z, wheel1_gap_z, wheel1_force_z) =
             first(&forces, &contact_p, &gaps_used, &veh);
         records.push(Record {

@@ -195,7 +195,7 @@ fn bad_input_is_a_one_line_error_with_exit_2() {
             "--running",
             "-1",
         ],
-        "--running must be a positive",
+        "--running: must be a positive",
     );
     assert_input_error(
         &["bands", "--input", "/nonexistent/x.csv", "--column", "a"],

@@ -222,6 +222,10 @@ fn a_silent_firmware_is_reported_after_the_retries() {
     link.timeout = Duration::from_millis(10);
     link.max_retries = 2;
     let err = link.call(Request::Ping).unwrap_err();
-    assert!(err.contains("after 2 retries"), "{err}");
+    assert!(
+        matches!(err, maglev_host_sim::Error::Firmware(_)),
+        "{err:?}"
+    );
+    assert!(err.to_string().contains("after 2 retries"), "{err}");
     assert_eq!(link.stats().timeouts, 3);
 }

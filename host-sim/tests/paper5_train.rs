@@ -27,7 +27,7 @@ struct Collect {
 }
 
 impl Recorder for Collect {
-    fn record(&mut self, step: &StepView) -> Result<(), String> {
+    fn record(&mut self, step: &StepView) -> maglev_host_sim::Result<()> {
         self.rows
             .push(self.probes.iter().map(|p| step.value(p)).collect());
         Ok(())
@@ -431,7 +431,14 @@ fn a_pier_probe_is_checked_against_the_guideway() {
     };
     let p = Probes::new(Some(&["pier5.base.z".to_string()]), &e).unwrap();
     let err = p.check_guideway(&g).unwrap_err();
-    assert!(err.contains("at most 4"), "{err}");
+    assert!(
+        matches!(&err, maglev_host_sim::Error::Invalid { key, .. } if key == "output.probes"),
+        "{err:?}"
+    );
+    assert_eq!(
+        err.to_string(),
+        "output.probes: `pier5.base.z`: the guideway has 4 pier(s), so K is at most 4"
+    );
     let ok = Probes::new(Some(&["pier4.base.az".to_string()]), &e).unwrap();
     assert!(ok.check_guideway(&g).is_ok());
     assert_eq!(

@@ -23,7 +23,7 @@ impl Collect {
 }
 
 impl Recorder for Collect {
-    fn record(&mut self, step: &StepView) -> Result<(), String> {
+    fn record(&mut self, step: &StepView) -> maglev_host_sim::Result<()> {
         self.rows
             .push(self.probes.iter().map(|p| step.value(p)).collect());
         Ok(())

@@ -113,5 +113,5 @@ fn i4f28_refuses_one_thousand_sub_steps() {
     let trace: Trace = traces::step(1e-3);
     let p = params(trace.dt, 1000, Interpolation::Linear);
     let err = run_trace_as(ScalarKind::I4f28, &p, &trace).unwrap_err();
-    assert!(err.contains("i4f28 cannot represent"), "{err}");
+    assert!(err.to_string().contains("i4f28 cannot represent"), "{err}");
 }

@@ -4,9 +4,10 @@
 
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use crate::bands::{self, Averaging, Level, Quantity, Settings};
+use crate::Error;
 
 /// What the input column holds.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -65,33 +66,41 @@ fn settings(a: &Args) -> Settings {
     }
 }
 
-/// Run the subcommand.
-pub fn run(a: Args) -> Result<(), String> {
+/// Run the subcommand (the open error of `--input` is given as such).
+pub fn run(a: Args) -> anyhow::Result<()> {
+    use anyhow::Context as _;
     if let Some(w) = a.running {
         if !(w.is_finite() && w > 0.0) {
-            return Err(format!(
-                "--running must be a positive number of seconds, got {w}"
-            ));
+            return Err(Error::invalid(
+                "--running",
+                format!("must be a positive number of seconds, got {w}"),
+            )
+            .into());
         }
     }
     let s = settings(&a);
     let file = File::open(&a.input)
-        .map_err(|e| format!("--input {}: cannot open: {e}", a.input.display()))?;
+        .map_err(|e| Error::io(&a.input, e))
+        .context("--input")?;
     let h = bands::read_history(BufReader::new(file), &a.column)
-        .map_err(|e| format!("--input {}: {e}", a.input.display()))?;
+        .map_err(|e| Error::parse(format!("--input {}", a.input.display()), e))?;
     let levels = bands::analyse(&h.values, h.dt, &s).map_err(|e| match e {
-        bands::BandsError::BadWindow { .. } => format!("--running: {e}"),
-        _ => format!("--input {}: {e}", a.input.display()),
+        bands::BandsError::BadWindow { .. } => Error::invalid("--running", e.to_string()),
+        _ => Error::invalid(format!("--input {}", a.input.display()), e.to_string()),
     })?;
     let header = bands::header_line(&a.column, h.values.len(), h.dt, &s);
-    let write =
-        |w: &mut dyn Write| bands::write_levels(w, &header, &levels).map_err(|e| e.to_string());
+    let write = |w: &mut dyn Write, to: &Path| {
+        bands::write_levels(w, &header, &levels)
+            .map_err(|e| Error::io(to, std::io::Error::other(e)))
+    };
     match &a.out {
         Some(path) => {
-            let f = File::create(path)
-                .map_err(|e| format!("--out {}: cannot create: {e}", path.display()))?;
-            write(&mut BufWriter::new(f))
+            let f = File::create(path).map_err(|e| Error::io(path, e))?;
+            Ok(write(&mut BufWriter::new(f), path)?)
         }
-        None => write(&mut BufWriter::new(std::io::stdout().lock())),
+        None => Ok(write(
+            &mut BufWriter::new(std::io::stdout().lock()),
+            Path::new("stdout"),
+        )?),
     }
 }

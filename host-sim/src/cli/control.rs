@@ -4,6 +4,8 @@
 
 use crate::control::{parse_trace, run_trace_as, to_csv, Row, ScalarKind};
 use crate::scenario::{InterpKey, SchemeKey};
+use crate::{Error, Result};
+use anyhow::Context as _;
 use maglev_core::{Params, Status};
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -48,7 +50,7 @@ pub struct ControllerArgs {
 
 impl ControllerArgs {
     /// The core's parameters for an outer step `dt`, validated (errors name the parameter).
-    pub fn params(&self, dt: f64) -> Result<Params, String> {
+    pub fn params(&self, dt: f64) -> Result<Params> {
         let p = Params {
             i0: self.i0,
             h0: self.h0,
@@ -63,7 +65,8 @@ impl ControllerArgs {
             v_max: self.vmax,
             scheme: self.scheme.into(),
         };
-        p.validate().map_err(|e| e.to_string())?;
+        p.validate()
+            .map_err(|e| Error::invalid("controller", e.to_string()))?;
         Ok(p)
     }
 }
@@ -103,10 +106,11 @@ fn report_events(rows: &[Row]) {
     }
 }
 
-pub fn run(args: Args) -> Result<(), String> {
+pub fn run(args: Args) -> anyhow::Result<()> {
     let name = args.trace.display().to_string();
     let text = std::fs::read_to_string(&args.trace)
-        .map_err(|e| format!("cannot read trace {name}: {e}"))?;
+        .map_err(|e| Error::io(&args.trace, e))
+        .context("cannot read trace")?;
     let trace = parse_trace(&text, &name)?;
     let params = args.controller.params(trace.dt)?;
     let rows = run_trace_as(args.scalar, &params, &trace)?;
@@ -114,5 +118,6 @@ pub fn run(args: Args) -> Result<(), String> {
     std::io::stdout()
         .lock()
         .write_all(to_csv(&rows).as_bytes())
-        .map_err(|e| format!("cannot write output: {e}"))
+        .map_err(|e| Error::io("stdout", e))
+        .context("cannot write output")
 }

@@ -8,6 +8,7 @@ use crate::hil::link::{InProc, Link, LinkFaults, LinkStats, StreamLink};
 use crate::hil::{HilSettings, HIL_KEYS};
 use crate::output::{response_recorder, write_run, Staging, Summary};
 use crate::setup::{simulate, Controllers, Run};
+use crate::{Error, Result};
 use maglev_firmware_sim::supervision::Event;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -112,8 +113,13 @@ pub struct HilSummary {
     pub compare_before_fault: Option<Comparison>,
 }
 
-fn parse_link_fault(v: &str, lf: &mut LinkFaults) -> Result<(), String> {
-    let err = || format!("link_fault `{v}`: expected corrupt|corrupt_reply|drop|late:EVERY");
+fn parse_link_fault(v: &str, lf: &mut LinkFaults) -> Result<()> {
+    let err = || {
+        Error::invalid(
+            "--set link_fault",
+            format!("`{v}`: expected corrupt|corrupt_reply|drop|late:EVERY"),
+        )
+    };
     let (k, n) = v.split_once(':').ok_or_else(err)?;
     let n: u64 = n.parse().map_err(|_| err())?;
     match k {
@@ -181,25 +187,27 @@ pub fn qemu_command(qemu: &Path, image: &Path, link: QemuLink) -> Command {
     c
 }
 
-/// Opens the link of a mode.
-pub fn open_link(args: &Args, faults: LinkFaults) -> Result<Box<dyn Link>, String> {
+/// Opens the link of a mode: a link fault without bytes is `Invalid` on `--set link_fault`,
+/// a missing program or image and a failed start are [`Error::Firmware`].
+pub fn open_link(args: &Args, faults: LinkFaults) -> Result<Box<dyn Link>> {
     let mut link = match args.firmware {
         FirmwareMode::Inproc => {
             if faults != LinkFaults::default() {
-                return Err(
-                    "link_fault needs --firmware process or qemu (in-process has no bytes)".into(),
-                );
+                return Err(Error::invalid(
+                    "--set link_fault",
+                    "needs --firmware process or qemu (in-process has no bytes)",
+                ));
             }
             return Ok(Box::new(InProc::default()));
         }
         FirmwareMode::Process => {
             let prog = firmware_program(args);
             if !prog.exists() {
-                return Err(format!(
-                    "firmware program {} not found: build it (cargo build -p maglev-firmware-sim \
+                return Err(Error::Firmware(format!(
+                    "program {} not found: build it (cargo build -p maglev-firmware-sim \
                      --bin maglev-firmware --release) or pass --firmware-bin / $MAGLEV_FIRMWARE",
                     prog.display()
-                ));
+                )));
             }
             StreamLink::spawn(Command::new(prog))?
         }
@@ -215,9 +223,12 @@ pub fn open_link(args: &Args, faults: LinkFaults) -> Result<Box<dyn Link>, Strin
                 .clone()
                 .or_else(|| std::env::var_os("MAGLEV_QEMU_IMAGE").map(PathBuf::from))
                 .or_else(|| default_qemu_image(args.qemu_link))
-                .ok_or_else(|| format!("no QEMU image {name}: {build}"))?;
+                .ok_or_else(|| Error::Firmware(format!("no QEMU image {name}: {build}")))?;
             if !image.exists() {
-                return Err(format!("QEMU image {} not found: {build}", image.display()));
+                return Err(Error::Firmware(format!(
+                    "QEMU image {} not found: {build}",
+                    image.display()
+                )));
             }
             let qemu = args
                 .qemu
@@ -263,17 +274,17 @@ fn events_csv(out: &Run) -> String {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    run_inner(args).map_err(anyhow::Error::msg)
+    Ok(run_inner(args)?)
 }
 
-fn run_inner(args: Args) -> Result<(), String> {
+fn run_inner(args: Args) -> Result<()> {
     let mut hs = HilSettings::default();
     let mut faults = LinkFaults::default();
     let mut scenario_sets = Vec::new();
     for s in &args.sets {
         let (k, v) = s
             .split_once('=')
-            .ok_or_else(|| format!("--set `{s}`: expected KEY=VALUE"))?;
+            .ok_or_else(|| Error::invalid(format!("--set `{s}`"), "expected KEY=VALUE"))?;
         if k == "link_fault" {
             parse_link_fault(v, &mut faults)?;
         } else if HIL_KEYS.contains(&k) {
@@ -282,17 +293,16 @@ fn run_inner(args: Args) -> Result<(), String> {
             scenario_sets.push(s.clone());
         }
     }
-    let s = |e: crate::Error| e.to_string();
-    let case = Case::load(&args.scenario, &scenario_sets).map_err(s)?;
-    let out = Staging::new(&args.out).map_err(s)?;
-    let mut rec = response_recorder(&out, case.probes.clone()).map_err(s)?;
+    let case = Case::load(&args.scenario, &scenario_sets)?;
+    let out = Staging::new(&args.out)?;
+    let mut rec = response_recorder(&out, case.probes.clone())?;
     let mut link = open_link(&args, faults)?;
     let mut bar = Progress::run("hil");
     let firmware = Controllers::Firmware {
         settings: &hs,
         link: link.as_mut(),
     };
-    let outcome = simulate(&case, firmware, &mut rec, |f| bar.fraction(f)).map_err(s)?;
+    let outcome = simulate(&case, firmware, &mut rec, |f| bar.fraction(f))?;
     let wall = outcome.wall;
     drop(bar);
     rec.finish()?;
@@ -306,8 +316,7 @@ fn run_inner(args: Args) -> Result<(), String> {
             Controllers::Core,
             &mut crate::probes::NoRecorder,
             |f| bar.fraction(f),
-        )
-        .map_err(s)?
+        )?
         .outcome;
         drop(bar);
         let all = compare(&outcome.outcome.records, &ideal.records)?;
@@ -345,14 +354,14 @@ fn run_inner(args: Args) -> Result<(), String> {
         compare_before_fault: cmp_before,
         run,
     };
-    write_run(&out, &outcome.outcome, &summary.run, &args.sets).map_err(s)?;
-    let put = |name: &str, text: String| out.put(name, &text).map_err(s);
+    write_run(&out, &outcome.outcome, &summary.run, &args.sets)?;
+    let put = |name: &str, text: String| out.put(name, &text);
     put(
         "summary.json",
-        serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())? + "\n",
+        serde_json::to_string_pretty(&summary).map_err(|e| Error::numerical(e.to_string()))? + "\n",
     )?;
     put("events.csv", events_csv(&outcome))?;
-    out.finish().map_err(s)?;
+    out.finish()?;
     crate::cli::run::warn(&outcome.outcome);
     eprintln!(
         "maglev: hil ({}) {} steps, {:.3} s simulated in {:.2} s wall; {} exchanges, {:.0}/s in the link \

@@ -10,6 +10,7 @@
 use std::io::{BufWriter, Write};
 
 use crate::profile::sweep;
+use crate::{Error, Result};
 use maglev_core::irregularity::{Direction, Irregularity, PsdParams};
 
 /// Largest number of rows the command will write (10⁸ rows is ~3 GB of CSV).
@@ -51,32 +52,40 @@ pub struct Args {
 }
 
 /// Parse `y`/`z` (any case).
-pub fn parse_direction(s: &str) -> Result<Direction, String> {
+pub fn parse_direction(s: &str) -> Result<Direction> {
     match s.trim().to_ascii_lowercase().as_str() {
         "y" => Ok(Direction::Y),
         "z" => Ok(Direction::Z),
-        _ => Err(format!("unknown direction {s:?}: expected y or z")),
+        _ => Err(Error::invalid(
+            "--direction",
+            format!("unknown direction {s:?}: expected y or z"),
+        )),
     }
 }
 
 /// Number of rows: x_j = j·dx for j = 0..count with x_j ≤ length (to a relative 1e-9 of dx,
 /// so that `--length 1000 --dx 0.1` ends at x = 1000 despite 0.1 not being exact in binary).
-pub fn sample_count(dx: f64, length: f64) -> Result<usize, String> {
+pub fn sample_count(dx: f64, length: f64) -> Result<usize> {
     if !dx.is_finite() || dx <= 0.0 {
-        return Err(format!(
-            "--dx must be a positive finite number of metres, got {dx}"
+        return Err(Error::invalid(
+            "--dx",
+            format!("must be a positive finite number of metres, got {dx}"),
         ));
     }
     if !length.is_finite() || length <= 0.0 {
-        return Err(format!(
-            "--length must be a positive finite number of metres, got {length}"
+        return Err(Error::invalid(
+            "--length",
+            format!("must be a positive finite number of metres, got {length}"),
         ));
     }
     let last = (length / dx + 1e-9).floor();
     if last + 1.0 > MAX_SAMPLES as f64 {
-        return Err(format!(
-            "--length/--dx gives {} samples, more than the limit {MAX_SAMPLES}",
-            last + 1.0
+        return Err(Error::invalid(
+            "--length/--dx",
+            format!(
+                "gives {} samples, more than the limit {MAX_SAMPLES}",
+                last + 1.0
+            ),
         ));
     }
     Ok(last as usize + 1)
@@ -114,18 +123,18 @@ fn params_from(a: &Args, direction: Direction) -> PsdParams {
 }
 
 /// Run the subcommand: CSV with header `x,r` to stdout.
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<()> {
     let direction = parse_direction(&a.direction)?;
     let count = sample_count(a.dx, a.length)?;
     let params = params_from(&a, direction);
     // The generator holds 2000 terms of 24 bytes; keep it off the stack.
     let mut g: Box<Irregularity<f64>> = Box::default();
     g.rebuild(&params, direction, a.seed, 0.0)
-        .map_err(|e| format!("invalid irregularity parameters: {e}"))?;
+        .map_err(|e| Error::invalid("irregularity parameters", e.to_string()))?;
     let prec = decimals(a.dx);
     let stdout = std::io::stdout();
     let mut w = BufWriter::with_capacity(1 << 16, stdout.lock());
-    let io = |e: std::io::Error| format!("writing the profile failed: {e}");
+    let io = |e: std::io::Error| Error::io("stdout", e);
     writeln!(w, "x,r").map_err(io)?;
     sweep(&g, a.dx, count, |_, x, r| writeln!(w, "{x:.prec$},{r:e}")).map_err(io)?;
     w.flush().map_err(io)
@@ -149,12 +158,15 @@ mod tests {
             (0.1, f64::INFINITY),
             (1e-9, 1e3),
         ] {
-            let e = sample_count(dx, len).unwrap_err();
-            assert!(!e.contains('\n'), "{e}");
+            let e = sample_count(dx, len).unwrap_err().to_string();
+            assert!(!e.contains('\n') && e.starts_with("--"), "{e}");
         }
         assert_eq!(parse_direction("Y").unwrap(), Direction::Y);
         assert_eq!(parse_direction("z").unwrap(), Direction::Z);
-        assert!(parse_direction("x").unwrap_err().contains("direction"));
+        assert!(parse_direction("x")
+            .unwrap_err()
+            .to_string()
+            .starts_with("--direction: "));
         assert_eq!(decimals(0.1), 1);
         assert_eq!(decimals(0.25), 2);
         assert_eq!(decimals(1.0), 0);

@@ -1,4 +1,5 @@
-//! One module per `maglev` subcommand. Each exposes `Args` (clap) and `run(Args) -> Result<(), String>`;
+//! One module per `maglev` subcommand. Each exposes `Args` (clap) and `run(Args)` returning
+//! `crate::Result` or `anyhow::Result`;
 //! errors are one line naming what is wrong.
 pub mod bands;
 pub mod control;

@@ -4,6 +4,7 @@
 
 use crate::fe::{natural_modes, SpanModel};
 use crate::guideway::BeamSection;
+use crate::{Error, Result};
 
 /// Span length of the §4.2 validation beam (m).
 pub const SPAN_LENGTH: f64 = 25.0;
@@ -51,35 +52,39 @@ struct Row {
 }
 
 /// The output text for `args`, or a one-line error.
-pub fn render(args: &Args) -> Result<String, String> {
+pub fn render(args: &Args) -> Result<String> {
     if args.elements == 0 || args.elements > MAX_ELEMENTS {
-        return Err(format!(
-            "--elements must be between 1 and {MAX_ELEMENTS}, got {}",
-            args.elements
+        return Err(Error::invalid(
+            "--elements",
+            format!(
+                "must be between 1 and {MAX_ELEMENTS}, got {}",
+                args.elements
+            ),
         ));
     }
     if let Some(spans) = args.viaduct {
         let mut spec = crate::fe::paper5_viaduct().with_spans(spans);
         spec.elements_per_span = args.elements;
         if spans == 0 || spans > MAX_SPANS {
-            return Err(format!(
-                "--viaduct must be between 1 and {MAX_SPANS} spans, got {spans}"
+            return Err(Error::invalid(
+                "--viaduct",
+                format!("must be between 1 and {MAX_SPANS} spans, got {spans}"),
             ));
         }
         return render_rows(args.format, &viaduct_rows(&spec, args.count)?);
     }
     let (section, length, elements) = match &args.scenario {
         Some(name) => {
-            let case = crate::case::Case::load(name, &args.sets).map_err(|e| e.to_string())?;
+            let case = crate::case::Case::load(name, &args.sets)?;
             if let Some(spec) = &case.viaduct {
                 return render_rows(args.format, &viaduct_first_rows(spec, args.count)?);
             }
             match case.bridge.spans.as_slice() {
                 [l] => (case.bridge.section.clone(), *l, case.elements_per_span),
                 spans => {
-                    return Err(format!(
-                        "--scenario {name}: {} independent simply supported spans each have their own modes; give a single span (--set bridge.spans_m=[L]) or a viaduct",
-                        spans.len()
+                    return Err(Error::invalid(
+                        format!("--scenario {name}"),
+                        format!("{} independent simply supported spans each have their own modes; give a single span (--set bridge.spans_m=[L]) or a viaduct", spans.len()),
                     ))
                 }
             }
@@ -87,20 +92,23 @@ pub fn render(args: &Args) -> Result<String, String> {
         None => (BeamSection::paper_4_2(), SPAN_LENGTH, args.elements),
     };
     if elements == 0 || elements > MAX_ELEMENTS {
-        return Err(format!(
-            "run.elements_per_span must be between 1 and {MAX_ELEMENTS} for modes, got {elements}"
+        return Err(Error::invalid(
+            "run.elements_per_span",
+            format!("must be between 1 and {MAX_ELEMENTS} for modes, got {elements}"),
         ));
     }
-    let model = SpanModel::new(&section, length, elements).map_err(|e| e.to_string())?;
+    let model = SpanModel::new(&section, length, elements)?;
     let dofs = model.free_dofs();
     if args.count == 0 || args.count > dofs {
-        return Err(format!(
-            "--count must be between 1 and {dofs} (free DOFs with {} elements), got {}",
-            elements, args.count
+        return Err(Error::invalid(
+            "--count",
+            format!(
+                "must be between 1 and {dofs} (free DOFs with {} elements), got {}",
+                elements, args.count
+            ),
         ));
     }
-    let rows: Vec<Row> = natural_modes(&model)
-        .map_err(|e| e.to_string())?
+    let rows: Vec<Row> = natural_modes(&model)?
         .into_iter()
         .take(args.count)
         .enumerate()
@@ -116,15 +124,18 @@ pub fn render(args: &Args) -> Result<String, String> {
 /// Largest viaduct accepted by `--viaduct`.
 pub const MAX_SPANS: usize = 100;
 
-fn viaduct_rows(spec: &crate::fe::ViaductSpec, count: usize) -> Result<Vec<Row>, String> {
+fn viaduct_rows(spec: &crate::fe::ViaductSpec, count: usize) -> Result<Vec<Row>> {
     if spec.elements_per_span > MAX_ELEMENTS {
-        return Err(format!(
-            "elements per girder must be at most {MAX_ELEMENTS} for modes, got {}",
-            spec.elements_per_span
+        return Err(Error::invalid(
+            "--elements",
+            format!(
+                "elements per girder must be at most {MAX_ELEMENTS} for modes, got {}",
+                spec.elements_per_span
+            ),
         ));
     }
-    let (structure, _) = crate::fe::viaduct::assemble(spec).map_err(|e| e.to_string())?;
-    let modes = crate::fe::lowest_modes(&structure, count).map_err(|e| e.to_string())?;
+    let (structure, _) = crate::fe::viaduct::assemble(spec)?;
+    let modes = crate::fe::lowest_modes(&structure, count)?;
     Ok(modes
         .into_iter()
         .enumerate()
@@ -144,7 +155,7 @@ fn viaduct_rows(spec: &crate::fe::ViaductSpec, count: usize) -> Result<Vec<Row>,
 /// modes at 2.70 Hz for paper-5, then 36 lateral, …), and the first vertical and torsion
 /// modes lie past the first clusters. Subspace iteration also converges only when its block
 /// reaches past a cluster. So 4·(spans + 1) modes are computed: the four families.
-fn viaduct_first_rows(spec: &crate::fe::ViaductSpec, count: usize) -> Result<Vec<Row>, String> {
+fn viaduct_first_rows(spec: &crate::fe::ViaductSpec, count: usize) -> Result<Vec<Row>> {
     let all = viaduct_rows(spec, count.max(4 * (spec.spans + 1)))?;
     let mut seen = Vec::new();
     Ok(all
@@ -159,9 +170,11 @@ fn viaduct_first_rows(spec: &crate::fe::ViaductSpec, count: usize) -> Result<Vec
         .collect())
 }
 
-fn render_rows(format: Format, rows: &[Row]) -> Result<String, String> {
+fn render_rows(format: Format, rows: &[Row]) -> Result<String> {
     Ok(match format {
-        Format::Json => serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())? + "\n",
+        Format::Json => {
+            serde_json::to_string_pretty(&rows).map_err(|e| Error::numerical(e.to_string()))? + "\n"
+        }
         Format::Csv => {
             let mut s = String::from("index,frequency_hz,kind\n");
             for r in rows {
@@ -173,7 +186,7 @@ fn render_rows(format: Format, rows: &[Row]) -> Result<String, String> {
 }
 
 /// Run the subcommand.
-pub fn run(args: Args) -> Result<(), String> {
+pub fn run(args: Args) -> Result<()> {
     print!("{}", render(&args)?);
     Ok(())
 }

@@ -80,7 +80,7 @@ pub fn run(args: Args) -> anyhow::Result<bool> {
     let mut bar = Progress::run("run");
     let run = simulate(&case, Controllers::Core, &mut rec, |f| bar.fraction(f))?;
     drop(bar);
-    rec.finish().map_err(anyhow::Error::msg)?;
+    rec.finish()?;
     let (outcome, wall) = (run.outcome, run.wall);
     warn(&outcome);
     let summary = Summary::new(&args.scenario, &case, &outcome, wall);

@@ -102,11 +102,11 @@ pub struct Report {
 }
 
 /// Computes the report (no printing).
-pub fn report(args: &Args) -> Result<Report, String> {
+pub fn report(args: &Args) -> crate::Result<Report> {
     if !(args.dt > 0.0 && args.dt.is_finite()) {
-        return Err(format!(
-            "--dt must be a positive number of seconds, got {}",
-            args.dt
+        return Err(crate::Error::invalid(
+            "--dt",
+            format!("must be a positive number of seconds, got {}", args.dt),
         ));
     }
     let p = args.controller.params(args.dt)?;
@@ -214,7 +214,7 @@ pub fn table(r: &Report) -> String {
     )
 }
 
-pub fn run(args: Args) -> Result<(), String> {
+pub fn run(args: Args) -> crate::Result<()> {
     if let Some(Study::Numerics) = args.study {
         print!(
             "{}",
@@ -225,7 +225,11 @@ pub fn run(args: Args) -> Result<(), String> {
     if let Some(name) = &args.scenario {
         let r = scenario_report(name, &args.sets)?;
         let text = match args.format {
-            Format::Json => serde_json::to_string_pretty(&r).map_err(|e| e.to_string())? + "\n",
+            Format::Json => {
+                serde_json::to_string_pretty(&r)
+                    .map_err(|e| crate::Error::numerical(e.to_string()))?
+                    + "\n"
+            }
             Format::Table => scenario_table(&r),
         };
         print!("{text}");
@@ -233,7 +237,10 @@ pub fn run(args: Args) -> Result<(), String> {
     }
     let r = report(&args)?;
     let text = match args.format {
-        Format::Json => serde_json::to_string_pretty(&r).map_err(|e| e.to_string())? + "\n",
+        Format::Json => {
+            serde_json::to_string_pretty(&r).map_err(|e| crate::Error::numerical(e.to_string()))?
+                + "\n"
+        }
         Format::Table => table(&r),
     };
     print!("{text}");

@@ -31,11 +31,15 @@ pub struct SensorFault {
     pub from_s: f64,
 }
 
+/// A malformed fault is `Invalid` on `--set fault`, the one place it is written.
 impl std::str::FromStr for SensorFault {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = crate::Error;
+    fn from_str(s: &str) -> crate::Result<Self> {
         let err = || {
-            format!("sensor fault `{s}`: expected KIND:CHANNEL@SECONDS, KIND one of stuck, range, contact")
+            crate::Error::invalid(
+                "--set fault",
+                format!("`{s}`: expected KIND:CHANNEL@SECONDS, KIND one of stuck, range, contact"),
+            )
         };
         let (kind, rest) = s.split_once(':').ok_or_else(err)?;
         let (ch, t) = rest.split_once('@').ok_or_else(err)?;

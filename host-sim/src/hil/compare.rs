@@ -3,6 +3,7 @@
 //! the cost of sampling, quantisation, noise and delay is a number.
 
 use crate::simulation::Record;
+use crate::{Error, Result};
 use serde::Serialize;
 
 /// Largest absolute difference of one history and the ideal run's peak of it.
@@ -44,14 +45,15 @@ fn diff(hil: &[Record], ideal: &[Record], get: fn(&Record) -> f64) -> Diff {
     d
 }
 
-/// Compares two runs on the same grid.
-pub fn compare(hil: &[Record], ideal: &[Record]) -> Result<Comparison, String> {
+/// Compares two runs on the same grid; runs of different lengths are
+/// [`Error::Numerical`] (an internal failure: both runs step the same case).
+pub fn compare(hil: &[Record], ideal: &[Record]) -> Result<Comparison> {
     if hil.len() != ideal.len() {
-        return Err(format!(
+        return Err(Error::numerical(format!(
             "internal: HIL run has {} records, ideal run {}",
             hil.len(),
             ideal.len()
-        ));
+        )));
     }
     Ok(Comparison {
         midspan_z: diff(hil, ideal, |r| r.midspan.z),

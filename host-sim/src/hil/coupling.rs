@@ -14,6 +14,7 @@ use super::link::Link;
 use super::HilSettings;
 use crate::simulation::{magnet_gaps, Law, Magnets, Settings, WheelGaps};
 use crate::vehicle::Train;
+use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::Status;
 use maglev_firmware_sim::protocol::{
@@ -29,10 +30,12 @@ pub struct EventRecord {
     pub mode: u8,
 }
 
-fn expect_reply(r: Response, step: u32) -> Result<Reply, String> {
+fn expect_reply(r: Response, step: u32) -> Result<Reply> {
     match r {
         Response::Reply(rep) if rep.step == step => Ok(rep),
-        other => Err(format!("firmware answered step {step} with {other:?}")),
+        other => Err(Error::Firmware(format!(
+            "answered step {step} with {other:?}"
+        ))),
     }
 }
 
@@ -52,19 +55,22 @@ pub struct FirmwareMagnets<'a> {
 }
 
 impl<'a> FirmwareMagnets<'a> {
-    /// Configures the firmware behind `link` (equilibrium at the initial gaps `gaps0`).
+    /// Configures the firmware behind `link` (equilibrium at the initial gaps `gaps0`). A
+    /// step that is not a whole number of control ticks is `Invalid` on `dt × rate`; the rest
+    /// is [`Error::Firmware`].
     pub fn new(
         v: &Train,
         gaps0: &[WheelGaps],
         s: &Settings,
         hs: &HilSettings,
         link: &'a mut dyn Link,
-    ) -> Result<Self, String> {
+    ) -> Result<Self> {
         let ticks_f = s.dt * hs.rate_hz as f64;
         let ticks = ticks_f.round() as usize;
         if ticks == 0 || (ticks_f - ticks as f64).abs() > 1e-9 * ticks_f {
-            return Err(format!(
-                "dt × rate = {ticks_f} control ticks per step: must be a whole number ≥ 1"
+            return Err(Error::invalid(
+                "dt × rate",
+                format!("{ticks_f} control ticks per step, must be a whole number ≥ 1"),
             ));
         }
         let p = s.controller;
@@ -72,9 +78,9 @@ impl<'a> FirmwareMagnets<'a> {
         let mut channels = maglev_firmware_sim::heapless::Vec::new();
         for (&p0, &(hz, d)) in v.p0.iter().zip(gaps0) {
             for gap in magnet_gaps((hz, d), h0) {
-                channels
-                    .push(ChannelInit { p0, gap })
-                    .map_err(|_| "too many magnet channels for the protocol")?;
+                channels.push(ChannelInit { p0, gap }).map_err(|_| {
+                    Error::Firmware("too many magnet channels for the protocol".into())
+                })?;
             }
         }
         let cfg = Config {
@@ -113,9 +119,13 @@ impl<'a> FirmwareMagnets<'a> {
         match link.call(Request::Config(cfg))? {
             Response::Ready { .. } => {}
             Response::Nack(Nack::BadConfig(f)) => {
-                return Err(format!("firmware refused the configuration: {f}"))
+                return Err(Error::Firmware(format!("refused the configuration: {f}")))
             }
-            other => return Err(format!("firmware refused the configuration: {other:?}")),
+            other => {
+                return Err(Error::Firmware(format!(
+                    "refused the configuration: {other:?}"
+                )))
+            }
         }
         Ok(FirmwareMagnets {
             link,
@@ -145,14 +155,13 @@ impl Magnets for FirmwareMagnets<'_> {
         gaps_prev: &[WheelGaps],
         gaps_next: &[WheelGaps],
         out: &mut [(f64, f64)],
-    ) -> crate::Result<()> {
+    ) -> Result<()> {
         self.step_forces(step, gaps_prev, gaps_next, out)
-            .map_err(crate::Error::Firmware)
     }
 
     /// `Commit`; logs the step's events.
-    fn commit(&mut self, step: u32, t: f64) -> crate::Result<()> {
-        self.step_commit(step, t).map_err(crate::Error::Firmware)
+    fn commit(&mut self, step: u32, t: f64) -> Result<()> {
+        self.step_commit(step, t)
     }
 
     /// The firmware reports through events, not the core's flags.
@@ -168,7 +177,7 @@ impl FirmwareMagnets<'_> {
         gaps_prev: &[WheelGaps],
         gaps_next: &[WheelGaps],
         out: &mut [(f64, f64)],
-    ) -> Result<(), String> {
+    ) -> Result<()> {
         let chans = |g: &[WheelGaps]| -> Vec<f64> {
             g.iter().flat_map(|&w| self.channel_gaps(w)).collect()
         };
@@ -182,7 +191,9 @@ impl FirmwareMagnets<'_> {
                 let h = a + frac * (b - a);
                 self.codes
                     .push(self.sensors.code(h, tick, ch))
-                    .map_err(|_| "too many samples per step for the protocol")?;
+                    .map_err(|_| {
+                        Error::Firmware("too many samples per step for the protocol".into())
+                    })?;
             }
         }
         let req = Request::Step {
@@ -202,12 +213,19 @@ impl FirmwareMagnets<'_> {
         Ok(())
     }
 
-    fn step_commit(&mut self, step: u32, t: f64) -> Result<(), String> {
+    fn step_commit(&mut self, step: u32, t: f64) -> Result<()> {
         match self.link.call(Request::Commit { step })? {
             Response::Committed { step: c } if c == step => {}
-            other => return Err(format!("firmware refused to commit step {step}: {other:?}")),
+            other => {
+                return Err(Error::Firmware(format!(
+                    "refused to commit step {step}: {other:?}"
+                )))
+            }
         }
-        let reply = self.last.take().ok_or("internal: commit without a step")?;
+        let reply = self
+            .last
+            .take()
+            .ok_or_else(|| Error::Firmware(format!("commit of step {step} without a step")))?;
         if reply.events != 0 {
             self.events.push(EventRecord {
                 t,

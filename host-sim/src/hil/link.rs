@@ -14,6 +14,7 @@
 //! `max_retries` the run stops with an error naming the request. [`LinkFaults`] injects
 //! each fault deterministically (by request number) for the tests.
 
+use crate::{Error, Result};
 use maglev_firmware_sim::protocol::{
     self, Envelope, FrameReader, Nack, Request, Response, MAX_FRAME, VERSION,
 };
@@ -41,8 +42,9 @@ pub struct LinkStats {
 }
 
 /// A lockstep request/reply channel to the firmware.
+/// Failures are [`Error::Firmware`].
 pub trait Link {
-    fn call(&mut self, req: Request) -> Result<Response, String>;
+    fn call(&mut self, req: Request) -> Result<Response>;
     fn stats(&self) -> LinkStats;
 }
 
@@ -64,7 +66,7 @@ impl Default for InProc {
 }
 
 impl Link for InProc {
-    fn call(&mut self, req: Request) -> Result<Response, String> {
+    fn call(&mut self, req: Request) -> Result<Response> {
         let t = Instant::now();
         self.seq += 1;
         let env = Envelope {
@@ -151,22 +153,23 @@ impl StreamLink {
     }
 
     /// Spawns `cmd` and talks to it over its stdin/stdout (stderr is passed through).
-    pub fn spawn(mut cmd: Command) -> Result<Self, String> {
+    pub fn spawn(mut cmd: Command) -> Result<Self> {
         let what = format!("{:?}", cmd.get_program());
         let mut child = cmd
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
             .spawn()
-            .map_err(|e| format!("cannot start the firmware {what}: {e}"))?;
-        let stdin = child.stdin.take().ok_or("no stdin")?;
-        let stdout = child.stdout.take().ok_or("no stdout")?;
+            .map_err(|e| Error::Firmware(format!("cannot start {what}: {e}")))?;
+        let pipe = |p: &str| Error::Firmware(format!("{what} has no {p} pipe"));
+        let stdin = child.stdin.take().ok_or_else(|| pipe("stdin"))?;
+        let stdout = child.stdout.take().ok_or_else(|| pipe("stdout"))?;
         let mut link = StreamLink::new(stdout, stdin);
         link.child = Some(child);
         Ok(link)
     }
 
-    fn send(&self, frame: &[u8], late: bool) -> Result<(), String> {
+    fn send(&self, frame: &[u8], late: bool) -> Result<()> {
         if late {
             let w = Arc::clone(&self.writer);
             let frame = frame.to_vec();
@@ -179,13 +182,16 @@ impl StreamLink {
             });
             return Ok(());
         }
-        let mut w = self.writer.lock().map_err(|_| "link writer poisoned")?;
+        let mut w = self
+            .writer
+            .lock()
+            .map_err(|_| Error::Firmware("the link's writer is poisoned".into()))?;
         w.write_all(frame)
             .and_then(|_| w.flush())
-            .map_err(|e| format!("firmware link write failed: {e}"))
+            .map_err(|e| Error::Firmware(format!("link write failed: {e}")))
     }
 
-    fn exchange(&mut self, req: &Request) -> Result<Response, String> {
+    fn exchange(&mut self, req: &Request) -> Result<Response> {
         self.seq += 1;
         let seq = self.seq;
         let env = Envelope {
@@ -194,7 +200,8 @@ impl StreamLink {
             msg: req.clone(),
         };
         let mut frame = [0u8; MAX_FRAME];
-        let len = protocol::encode(&env, &mut frame).map_err(|e| format!("encode: {e:?}"))?;
+        let len = protocol::encode(&env, &mut frame)
+            .map_err(|e| Error::Firmware(format!("cannot encode request {seq}: {e:?}")))?;
         let n = seq as u64;
         let f = self.faults;
         for attempt in 0..=self.max_retries {
@@ -224,7 +231,7 @@ impl StreamLink {
                         break;
                     }
                     Err(RecvTimeoutError::Disconnected) => {
-                        return Err(format!("the firmware closed the link (request {seq})"))
+                        return Err(Error::Firmware(format!("the link closed (request {seq})")))
                     }
                 };
                 if first && LinkFaults::hits(f.corrupt_reply, n) && !bytes.is_empty() {
@@ -248,15 +255,15 @@ impl StreamLink {
                 }
             }
         }
-        Err(format!(
-            "no valid reply from the firmware to request {seq} after {} retries",
+        Err(Error::Firmware(format!(
+            "no valid reply to request {seq} after {} retries",
             self.max_retries
-        ))
+        )))
     }
 }
 
 impl Link for StreamLink {
-    fn call(&mut self, req: Request) -> Result<Response, String> {
+    fn call(&mut self, req: Request) -> Result<Response> {
         let t = Instant::now();
         let r = self.exchange(&req);
         self.stats.seconds += t.elapsed().as_secs_f64();

@@ -16,6 +16,7 @@ pub mod compare;
 pub mod coupling;
 pub mod link;
 
+use crate::{Error, Result};
 use board::SensorFault;
 use maglev_firmware_sim::adc::AdcModel;
 use maglev_firmware_sim::protocol::{ConfigKey, ScalarKind};
@@ -86,11 +87,17 @@ pub const HIL_KEYS: [&str; 16] = [
 ];
 
 impl HilSettings {
-    /// Applies one `key=value` of [`HIL_KEYS`] (except `link_fault`, handled by the CLI).
-    pub fn set(&mut self, key: &str, value: &str) -> Result<(), String> {
-        fn num<T: std::str::FromStr>(k: &str, v: &str) -> Result<T, String> {
-            v.parse()
-                .map_err(|_| format!("--set {k}: cannot read `{v}` as a number"))
+    /// Applies one `key=value` of [`HIL_KEYS`] (except `link_fault`, handled by the CLI). A
+    /// bad value is `Invalid` on `--set KEY`, with the accepted range.
+    pub fn set(&mut self, key: &str, value: &str) -> Result<()> {
+        let bad = |reason: String| Error::invalid(format!("--set {key}"), reason);
+        fn num<T: std::str::FromStr>(k: &str, v: &str) -> Result<T> {
+            v.parse().map_err(|_| {
+                Error::invalid(
+                    format!("--set {k}"),
+                    format!("cannot read `{v}` as a number"),
+                )
+            })
         }
         match key {
             "rate" => self.rate_hz = num(key, value)?,
@@ -98,14 +105,14 @@ impl HilSettings {
                 self.delay = match value {
                     "1" | "true" | "on" => true,
                     "0" | "false" | "off" => false,
-                    _ => return Err(format!("--set delay: expected true/false, got `{value}`")),
+                    _ => return Err(bad(format!("expected true/false, got `{value}`"))),
                 }
             }
             "scalar" => {
                 self.scalar = match value {
                     "i4f28" => ScalarKind::I4F28,
                     "f32" => ScalarKind::F32,
-                    _ => return Err(format!("--set scalar: i4f28 or f32, got `{value}`")),
+                    _ => return Err(bad(format!("i4f28 or f32, got `{value}`"))),
                 }
             }
             "adc_bits" => self.adc.bits = num(key, value)?,
@@ -120,12 +127,12 @@ impl HilSettings {
             "ramp_ticks" => self.ramp_ticks = num(key, value)?,
             "watchdog_ticks" => self.watchdog_ticks = num(key, value)?,
             "fault" => self.sensor_faults.push(value.parse()?),
-            _ => return Err(format!("unknown firmware key `{key}`")),
+            _ => return Err(bad("not a firmware key".into())),
         }
         match self.check(key) {
-            Some(limit) => Err(format!(
-                "--set {key}={value}: out of range (accepted: {limit})"
-            )),
+            Some(limit) => Err(bad(format!(
+                "`{value}` is out of range (accepted: {limit})"
+            ))),
             None => Ok(()),
         }
     }
@@ -161,5 +168,46 @@ impl HilSettings {
             _ => (true, ""),
         };
         (!ok).then_some(limit)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The key and reason of a refused `--set`.
+    fn refused(key: &str, value: &str) -> (String, String) {
+        match HilSettings::default().set(key, value).unwrap_err() {
+            Error::Invalid { key, reason } => (key, reason),
+            other => panic!("{key}={value}: not an Invalid error: {other}"),
+        }
+    }
+
+    #[test]
+    fn bad_firmware_values_name_the_key_and_the_limit() {
+        let (k, r) = refused("rate", "fast");
+        assert_eq!(
+            (k.as_str(), r.as_str()),
+            ("--set rate", "cannot read `fast` as a number")
+        );
+        let (k, r) = refused("delay", "maybe");
+        assert_eq!(k, "--set delay");
+        assert!(r.contains("true/false") && r.contains("`maybe`"), "{r}");
+        let (k, r) = refused("pwm_bits", "40");
+        assert_eq!(k, "--set pwm_bits");
+        assert!(
+            r.starts_with("`40` is out of range (accepted: ")
+                && r.contains(ConfigKey::PwmBits.limit()),
+            "{r}"
+        );
+        let (k, r) = refused("fault", "stuck:x");
+        assert_eq!(k, "--set fault");
+        assert!(r.contains("KIND:CHANNEL@SECONDS"), "{r}");
+        let mut hs = HilSettings::default();
+        hs.set("fault", "stuck:2@0.25").unwrap();
+        hs.set("rate", "20000").unwrap();
+        assert_eq!(hs.rate_hz, 20_000);
+        assert_eq!(hs.sensor_faults[0].channel, 2);
+        assert_eq!(hs.sensor_faults[0].from_s, 0.25);
     }
 }

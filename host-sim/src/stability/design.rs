@@ -123,7 +123,7 @@ pub fn design(
     inner: &Params,
     geometry: Geometry,
     delay: Option<f64>,
-) -> Result<Design, String> {
+) -> crate::Result<Design> {
     let loops = per_magnet_loops(v, inner);
     let axis = |lo: f64, hi: f64, n: usize, i: usize| {
         lo.ln() + (hi.ln() - lo.ln()) * i as f64 / (n - 1) as f64
@@ -169,7 +169,9 @@ pub fn design(
         }
     }
     if !fu.is_finite() {
-        return Err("gap-loop design: no gains give a solvable closed loop".into());
+        return Err(crate::Error::numerical(
+            "gap-loop design: no gains give a solvable closed loop",
+        ));
     }
     Ok(Design {
         gains: gains(geometry, u),

@@ -16,17 +16,19 @@ const MAX_ITERATIONS: usize = 60;
 
 /// The eigenvalues of `a` (square, finite), unsorted; an error naming the matrix size if the
 /// iteration fails to converge or the matrix holds a non-finite entry.
-pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex>, String> {
+pub fn eigenvalues(a: &DMatrix<f64>) -> crate::Result<Vec<Complex>> {
     let n = a.nrows();
     if a.ncols() != n {
-        return Err(format!(
+        return Err(crate::Error::numerical(format!(
             "eigenvalues of a non-square {}×{} matrix",
             n,
             a.ncols()
-        ));
+        )));
     }
     if a.iter().any(|v| !v.is_finite()) {
-        return Err(format!("a {n}×{n} state matrix holds a non-finite entry"));
+        return Err(crate::Error::numerical(format!(
+            "a {n}×{n} state matrix holds a non-finite entry"
+        )));
     }
     if n == 0 {
         return Ok(Vec::new());
@@ -39,7 +41,11 @@ pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex>, String> {
     [balanced, a.clone()]
         .into_iter()
         .find_map(|m| hqr(nalgebra::linalg::Hessenberg::new(m).h()))
-        .ok_or_else(|| format!("the eigenvalues of a {n}×{n} matrix did not converge"))
+        .ok_or_else(|| {
+            crate::Error::numerical(format!(
+                "the eigenvalues of a {n}×{n} matrix did not converge"
+            ))
+        })
 }
 
 fn sign(a: f64, b: f64) -> f64 {
@@ -334,6 +340,9 @@ mod tests {
     fn rejects_non_finite_entries() {
         let mut a = DMatrix::zeros(3, 3);
         a[(1, 2)] = f64::NAN;
-        assert!(eigenvalues(&a).unwrap_err().contains("non-finite"));
+        assert!(eigenvalues(&a)
+            .unwrap_err()
+            .to_string()
+            .contains("non-finite"));
     }
 }

@@ -60,7 +60,7 @@ impl GapLoopPlant {
         s: &Suspension,
         gains: &GapParams,
         geometry: Geometry,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         Self::from_plant(
             params,
             Plant::new(params, s, geometry)?,
@@ -74,8 +74,10 @@ impl GapLoopPlant {
         plant: Plant,
         gains: &GapParams,
         eta_per_m: f64,
-    ) -> Result<Self, String> {
-        gains.validate().map_err(|e| e.to_string())?;
+    ) -> crate::Result<Self> {
+        gains
+            .validate()
+            .map_err(|e| crate::Error::invalid("gap_loop", e.to_string()))?;
         let lp = super::gloop::Loop::new(params, 0.0);
         let n = plant.a.nrows();
         let mut a = plant.a.clone().resize(n + 1, n + 1, 0.0);
@@ -102,7 +104,7 @@ impl GapLoopPlant {
         s: &Suspension,
         gains: &GapParams,
         geometry: Geometry,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         Self::with_body(
             params,
             s,
@@ -123,7 +125,7 @@ impl GapLoopPlant {
         gains: &GapParams,
         geometry: Geometry,
         pair: bool,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         let (sign, gain) = if pair {
             (
                 geometry.guidance_sign() * gap::guidance_gaps(0.0, 1.0).0,

@@ -43,7 +43,7 @@ pub fn write_rows(
     eta: &[(usize, f64)],
     lp: &Loop,
     gains: Option<&GapParams>,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     let n = a.ncols();
     let mut eta_row = vec![0.0; n];
     for &(j, e) in eta {
@@ -55,7 +55,13 @@ pub fn write_rows(
         (None, _) => {}
         (Some(g), Some(iq)) => {
             if g.tf.is_nan() || g.tf <= 0.0 {
-                return Err("the gap loop's analysis needs a derivative filter tf > 0".into());
+                return Err(crate::Error::invalid(
+                    "gap_loop.tf",
+                    format!(
+                        "the analysis needs a derivative filter tf > 0, got {}",
+                        g.tf
+                    ),
+                ));
             }
             let kdf = g.kd / g.tf;
             for (rj, ej) in r.iter_mut().zip(&eta_row) {
@@ -67,12 +73,19 @@ pub fn write_rows(
             }
             a[(iq, iq)] -= 1.0 / g.tf;
         }
-        (Some(_), None) => return Err("internal: a gap-loop magnet needs a q slot".into()),
+        (Some(_), None) => {
+            return Err(crate::Error::numerical(
+                "internal: a gap-loop magnet needs a q slot",
+            ))
+        }
     }
     if let Some((iw, d)) = at.delay {
         if gains.is_some() {
             if d.is_nan() || d <= 0.0 {
-                return Err("the reference delay must be positive".into());
+                return Err(crate::Error::invalid(
+                    "delay",
+                    format!("the reference delay must be > 0, got {d} s"),
+                ));
             }
             for j in 0..n {
                 a[(iw, j)] = 2.0 * r[j] / d;

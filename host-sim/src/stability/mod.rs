@@ -64,7 +64,7 @@ pub fn sorted_poles(ev: impl IntoIterator<Item = nalgebra::Complex<f64>>) -> Vec
 
 /// Eigenvalues of a general real matrix as sorted poles ([`sort_poles`]), by [`eig`] (with an
 /// iteration limit and exceptional shifts; an error if it does not converge).
-pub fn eigenvalues(a: &nalgebra::DMatrix<f64>) -> Result<Vec<Complex>, String> {
+pub fn eigenvalues(a: &nalgebra::DMatrix<f64>) -> crate::Result<Vec<Complex>> {
     let mut p = eig::eigenvalues(a)?;
     sort_poles(&mut p);
     Ok(p)

@@ -70,7 +70,7 @@ fn c_error(p: &Params, lsb: f64) -> f64 {
 /// Runs the whole study and returns its report (Markdown tables). `ref_n_sub` is the f64
 /// run taken as converged (its own error is ≈ the n_sub = 1000 error × 1000/ref_n_sub, the
 /// scheme being first order).
-pub fn study(ref_n_sub: u32) -> Result<String, String> {
+pub fn study(ref_n_sub: u32) -> crate::Result<String> {
     let dt = 1e-3;
     let mut out = String::new();
     let mut refs = vec![];

@@ -91,13 +91,16 @@ impl Plant {
     /// Builds the closed loop for `params` (only i0, h0, R0, KP, KI, p0 matter), `s` and the
     /// gap geometry (`h − h0 = levitation_sign·z_m`, docs/model.md §2); the magnet carries
     /// everything, `m_b = p0/9.81 − m_m`.
-    pub fn new(params: &Params, s: &Suspension, geometry: Geometry) -> Result<Self, String> {
+    pub fn new(params: &Params, s: &Suspension, geometry: Geometry) -> crate::Result<Self> {
         let body_mass = params.p0 / GRAVITY - s.magnet_mass;
         if body_mass.is_nan() || body_mass <= 0.0 {
-            return Err(format!(
-                "magnet mass {} kg leaves no body mass: p0/9.81 = {} kg",
-                s.magnet_mass,
-                params.p0 / GRAVITY
+            return Err(crate::Error::invalid(
+                "magnet_mass",
+                format!(
+                    "{} kg leaves no body mass: must be < p0/9.81 = {} kg",
+                    s.magnet_mass,
+                    params.p0 / GRAVITY
+                ),
             ));
         }
         Self::with_body(params, s, body_mass, geometry.levitation_sign(), 1.0)
@@ -112,16 +115,28 @@ impl Plant {
         body_mass: f64,
         eta_per_m: f64,
         force_gain: f64,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         let lp = Loop::new(params, 0.0);
         if !(s.magnet_mass >= 0.0 && s.magnet_mass.is_finite()) {
-            return Err("magnet mass must be finite and >= 0".into());
+            return Err(crate::Error::invalid(
+                "magnet_mass",
+                format!("must be finite and >= 0, got {} kg", s.magnet_mass),
+            ));
         }
         if !(body_mass > 0.0 && body_mass.is_finite()) {
-            return Err(format!("body mass must be positive, got {body_mass} kg"));
+            return Err(crate::Error::invalid(
+                "body_mass",
+                format!("must be positive, got {body_mass} kg"),
+            ));
         }
         if !(s.k > 0.0 && s.k.is_finite() && s.c >= 0.0 && s.c.is_finite()) {
-            return Err("suspension needs k > 0 and c >= 0, finite".into());
+            return Err(crate::Error::invalid(
+                "suspension",
+                format!(
+                    "needs k > 0 and c >= 0, finite, got k = {}, c = {}",
+                    s.k, s.c
+                ),
+            ));
         }
         let fx = force_gain * 2.0 * params.p0;
         let (k, c, mb) = (s.k, s.c, body_mass);
@@ -157,7 +172,10 @@ impl Plant {
             })
         } else {
             if c.is_nan() || c <= 0.0 {
-                return Err("a massless magnet needs a damper c > 0".into());
+                return Err(crate::Error::invalid(
+                    "suspension.c",
+                    format!("a massless magnet needs a damper c > 0, got {c}"),
+                ));
             }
             // z_m, z_b, v_b, x, y;  ż_m = v_b + (2·p0·x − k(z_m − z_b))/c
             #[rustfmt::skip]

@@ -42,20 +42,22 @@ pub struct ScenarioReport {
 }
 
 /// Computes the scenario report (no printing).
-pub fn scenario_report(name: &str, sets: &[String]) -> Result<ScenarioReport, String> {
+pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioReport> {
     use crate::simulation::Law;
     use crate::stability::gap_loop::GapLoopPlant;
     use crate::stability::vehicle::{critical_magnet_mass, VehiclePlant, ZERO_POLE};
-    let case = Case::load(name, sets).map_err(|e| e.to_string())?;
+    let case = Case::load(name, sets)?;
     let TrainCase::Fig1 { car: fig, .. } = &case.train else {
-        return Err("stability --scenario needs a fig1 vehicle (magnets to analyse)".into());
+        return Err(crate::Error::invalid(
+            "vehicle.kind",
+            "stability --scenario needs a fig1 vehicle (magnets to analyse)",
+        ));
     };
     let fig = fig.clone();
     let inner = case.controller;
     let law = case.law;
     let geometry = case.geometry;
-    let v = crate::vehicle::VehicleModel::fig1(&fig, maglev_core::levitation::GRAVITY)
-        .map_err(|e| e.to_string())?;
+    let v = crate::vehicle::VehicleModel::fig1(&fig, maglev_core::levitation::GRAVITY)?;
     let plant = VehiclePlant::new(&v, &inner, &law, geometry)?;
     let vd = plant.verdict()?;
     let critical = critical_magnet_mass(&fig, &inner, &law, geometry)?;
@@ -74,8 +76,10 @@ pub fn scenario_report(name: &str, sets: &[String]) -> Result<ScenarioReport, St
         Law::Paper => None,
         Law::GapLoop(g) => {
             let loops = crate::stability::design::per_magnet_loops(&v, &inner);
-            let (p, s, body) = loops.first().ok_or("the vehicle has no wheel")?;
-            let lp = |pair| -> Result<Vec<Complex>, String> {
+            let (p, s, body) = loops
+                .first()
+                .ok_or_else(|| crate::Error::invalid("vehicle", "the vehicle has no wheel"))?;
+            let lp = |pair| -> crate::Result<Vec<Complex>> {
                 crate::stability::eigenvalues(
                     &GapLoopPlant::with_body(p, s, *body, &g, geometry, pair)?.a,
                 )

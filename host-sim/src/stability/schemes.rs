@@ -20,7 +20,7 @@ fn params(dt: f64, scheme: Scheme, n_sub: u32) -> Params {
 }
 
 /// Runs and times (best of `reps`, seconds per outer step).
-fn timed(p: &Params, trace: &Trace, reps: usize) -> Result<(Vec<Row>, f64), String> {
+fn timed(p: &Params, trace: &Trace, reps: usize) -> crate::Result<(Vec<Row>, f64)> {
     let mut best = f64::INFINITY;
     let mut rows = vec![];
     for _ in 0..reps {
@@ -43,7 +43,7 @@ fn extrapolate(coarse: &[Row], fine: &[Row]) -> Vec<Row> {
 }
 
 /// The Markdown tables of the comparison.
-pub fn table() -> Result<String, String> {
+pub fn table() -> crate::Result<String> {
     let mut out = String::new();
     for dt in [1e-4, 1e-3, 1e-2] {
         for (name, trace) in traces(dt) {

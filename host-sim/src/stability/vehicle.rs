@@ -102,7 +102,7 @@ impl VehiclePlant {
         inner: &Params,
         law: &Law,
         geometry: Geometry,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         Self::sampled(v, inner, law, geometry, None)
     }
 
@@ -115,13 +115,17 @@ impl VehiclePlant {
         law: &Law,
         geometry: Geometry,
         delay: Option<f64>,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         let n = v.m.nrows();
         if v.m.ncols() != n || v.c.shape() != (n, n) || v.k.shape() != (n, n) {
-            return Err("internal: vehicle matrices are not square and of one size".into());
+            return Err(crate::Error::numerical(
+                "internal: vehicle matrices are not square and of one size",
+            ));
         }
         if v.p0.len() != v.wheels.len() {
-            return Err("internal: one static load per wheel expected".into());
+            return Err(crate::Error::numerical(
+                "internal: one static load per wheel expected",
+            ));
         }
         let massive: Vec<usize> = (0..n)
             .filter(|&i| v.m.row(i).iter().any(|&x| x != 0.0))
@@ -131,17 +135,28 @@ impl VehiclePlant {
             .iter()
             .any(|&j| massive.iter().any(|&i| v.m[(i, j)] != 0.0))
         {
-            return Err("internal: the mass matrix couples a massless DOF".into());
+            return Err(crate::Error::numerical(
+                "internal: the mass matrix couples a massless DOF",
+            ));
         }
         let (na, nz) = (massive.len(), massless.len());
         let m_inv = sub(&v.m, &massive, &massive)
             .cholesky()
-            .ok_or("the vehicle's mass matrix (DOFs with mass) is not positive definite")?
+            .ok_or_else(|| {
+                crate::Error::numerical(
+                    "the vehicle's mass matrix (DOFs with mass) is not positive definite",
+                )
+            })?
             .inverse();
         let cz_inv = if nz > 0 {
-            sub(&v.c, &massless, &massless).try_inverse().ok_or(
-                "a massless vehicle node needs a damper (the damping of the massless DOFs is singular)",
-            )?
+            sub(&v.c, &massless, &massless)
+                .try_inverse()
+                .ok_or_else(|| {
+                    crate::Error::invalid(
+                        "vehicle",
+                        "a massless vehicle node needs a damper (the damping of the massless DOFs is singular)",
+                    )
+                })?
         } else {
             DMatrix::zeros(0, 0)
         };
@@ -150,7 +165,8 @@ impl VehiclePlant {
         let gains = match law {
             Law::Paper => None,
             Law::GapLoop(g) => {
-                g.validate().map_err(|e| e.to_string())?;
+                g.validate()
+                    .map_err(|e| crate::Error::invalid("gap_loop", e.to_string()))?;
                 Some(g)
             }
         };
@@ -184,7 +200,8 @@ impl VehiclePlant {
         for (w, (wh, &p0)) in v.wheels.iter().zip(&v.p0).enumerate() {
             let mut p = *inner;
             p.p0 = p0;
-            p.validate().map_err(|e| format!("wheel {}: {e}", w + 1))?;
+            p.validate()
+                .map_err(|e| crate::Error::invalid(format!("wheel {}", w + 1), e.to_string()))?;
             let lp = Loop::new(&p, 0.0);
             let h0 = p.h0;
             let magnets = [
@@ -230,12 +247,12 @@ impl VehiclePlant {
     }
 
     /// Closed-loop poles (1/s), sorted by descending real part ([`super::eigenvalues`]).
-    pub fn poles(&self) -> Result<Vec<Complex>, String> {
+    pub fn poles(&self) -> crate::Result<Vec<Complex>> {
         super::eigenvalues(&self.a)
     }
 
     /// The poles classified ([`Verdict::of`]).
-    pub fn verdict(&self) -> Result<Verdict, String> {
+    pub fn verdict(&self) -> crate::Result<Verdict> {
         Ok(Verdict::of(self.poles()?))
     }
 }
@@ -247,12 +264,12 @@ pub fn fig1_with_mass(
     inner: &Params,
     law: &Law,
     geometry: Geometry,
-) -> Result<VehiclePlant, String> {
+) -> crate::Result<VehiclePlant> {
     let fig = Fig1 {
         wheel_mass: mass,
         ..fig.clone()
     };
-    let v = VehicleModel::fig1(&fig, GRAVITY).map_err(|e| e.to_string())?;
+    let v = VehicleModel::fig1(&fig, GRAVITY)?;
     VehiclePlant::new(&v, inner, law, geometry)
 }
 
@@ -272,8 +289,8 @@ pub fn critical_magnet_mass(
     inner: &Params,
     law: &Law,
     geometry: Geometry,
-) -> Result<Option<f64>, String> {
-    let unstable = |m: f64| -> Result<bool, String> {
+) -> crate::Result<Option<f64>> {
+    let unstable = |m: f64| -> crate::Result<bool> {
         Ok(!fig1_with_mass(fig, m, inner, law, geometry)?
             .verdict()?
             .stable)

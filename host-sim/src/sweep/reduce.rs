@@ -108,7 +108,7 @@ impl Reducer {
 }
 
 impl Recorder for Reducer {
-    fn record(&mut self, step: &StepView) -> std::result::Result<(), String> {
+    fn record(&mut self, step: &StepView) -> Result<()> {
         for (p, s) in self.probes.iter().zip(&mut self.stats) {
             s.add(step.value(p));
         }
