@@ -12,6 +12,7 @@
 //! acceleration are completed once, on [`Newmark::commit`]. Against one full step per
 //! iteration this reorders sums only: round-off (test `split_step_matches_the_full_step`).
 
+use crate::fe::newmark::complete_step;
 use crate::fe::{Newmark as Integrator, State};
 use crate::{Error, Result};
 use nalgebra::{DMatrix, DVector};
@@ -105,26 +106,17 @@ impl Newmark {
         self.solved = true;
     }
 
-    /// Accepts the trial state: completes its acceleration and velocity (Eq. 19,
-    /// a₁ = a₀ (u₁ − u) − a₂ v − a, v₁ = v + Δt (a + a₁)/2, in `fe::Newmark::step_into`'s
-    /// order of operations).
+    /// Accepts the trial state: completes its acceleration and velocity (Eq. 19, by
+    /// [`complete_step`], the spans' completion).
     pub fn commit(&mut self) {
         if !self.solved {
             return;
         }
-        let dt = self.integrator.time_step();
-        let (a0, a2, h) = (4.0 / (dt * dt), 4.0 / dt, dt / 2.0);
-        let (c, t) = (&mut self.committed, &mut self.trial);
-        for i in 0..c.d.len() {
-            let (d0, v0, acc0, d1) = (c.d[i], c.v[i], c.a[i], t.d[i]);
-            let acc1 = (d1 - d0) * a0 - a2 * v0 - acc0;
-            let v1 = v0 + h * acc0 + h * acc1;
-            t.a[i] = acc1;
-            t.v[i] = v1;
-            c.d[i] = d1;
-            c.v[i] = v1;
-            c.a[i] = acc1;
-        }
+        complete_step(
+            self.integrator.time_step(),
+            &mut self.committed,
+            &mut self.trial,
+        );
         self.free_valid = false;
         self.solved = false;
     }

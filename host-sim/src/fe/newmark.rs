@@ -357,23 +357,28 @@ impl SpanNewmark {
         self.fast.is_some()
     }
 
-    /// Complete the step: with `trial.d` the displacement at t + Δt and `committed` the state
-    /// at t, a₁ = a₀ (d₁ − d) − a₂ v − a and v₁ = v + Δt (a + a₁)/2, written to both `trial`
-    /// and `committed` (which becomes the state at t + Δt). No allocation.
+    /// Complete the step ([`complete_step`] at this span's Δt). No allocation.
     pub fn finish(&self, committed: &mut State, trial: &mut State) {
-        let dt = self.dt;
-        let (a0, a2, h) = (4.0 / (dt * dt), 4.0 / dt, dt / 2.0);
-        let n = committed.d.len();
-        for i in 0..n {
-            let (d0, v0, acc0, d1) = (committed.d[i], committed.v[i], committed.a[i], trial.d[i]);
-            let acc1 = a0 * (d1 - d0) - a2 * v0 - acc0;
-            let v1 = v0 + h * acc0 + h * acc1;
-            committed.d[i] = d1;
-            committed.v[i] = v1;
-            committed.a[i] = acc1;
-            trial.v[i] = v1;
-            trial.a[i] = acc1;
-        }
+        complete_step(self.dt, committed, trial);
+    }
+}
+
+/// The end of an average-acceleration step, shared by the spans and the vehicle: with
+/// `trial.d` the displacement at t + Δt and `committed` the state at t,
+/// a₁ = a₀ (d₁ − d) − a₂ v − a (a₀ = 4/Δt², a₂ = 4/Δt) and v₁ = v + Δt (a + a₁)/2, written to
+/// both `trial` and `committed` (which becomes the state at t + Δt). No allocation.
+pub fn complete_step(dt: f64, committed: &mut State, trial: &mut State) {
+    let (a0, a2, h) = (4.0 / (dt * dt), 4.0 / dt, dt / 2.0);
+    let n = committed.d.len();
+    for i in 0..n {
+        let (d0, v0, acc0, d1) = (committed.d[i], committed.v[i], committed.a[i], trial.d[i]);
+        let acc1 = a0 * (d1 - d0) - a2 * v0 - acc0;
+        let v1 = v0 + h * acc0 + h * acc1;
+        committed.d[i] = d1;
+        committed.v[i] = v1;
+        committed.a[i] = acc1;
+        trial.v[i] = v1;
+        trial.a[i] = acc1;
     }
 }
 
