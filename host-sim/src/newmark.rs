@@ -24,13 +24,12 @@ pub struct Newmark {
     trial: State,
     /// `Keff⁻¹`, column-major: column j is the step's displacement for a unit load on DOF j.
     flex: Vec<f64>,
-    /// The step's load-free displacement `Keff⁻¹ r` (valid when `free_valid`).
+    /// The step's load-free displacement `Keff⁻¹ r` (valid when `solved`).
     free: DVector<f64>,
     /// A zero load and a scratch state for the load-free step.
     zero: DVector<f64>,
     scratch: State,
-    free_valid: bool,
-    /// A solve since the last commit.
+    /// A solve since the last commit (and so `free` is this step's).
     solved: bool,
 }
 
@@ -62,7 +61,6 @@ impl Newmark {
             free: DVector::zeros(n),
             zero: DVector::zeros(n),
             scratch,
-            free_valid: false,
             solved: false,
         })
     }
@@ -86,11 +84,10 @@ impl Newmark {
     /// the load-free response (once per step) plus `Keff⁻¹ f` over the non-zero entries of
     /// `f` (module docs). No allocation.
     pub fn solve(&mut self, f: &DVector<f64>) {
-        if !self.free_valid {
+        if !self.solved {
             self.integrator
                 .step_into(&self.committed, &self.zero, &mut self.scratch);
             self.free.copy_from(&self.scratch.d);
-            self.free_valid = true;
         }
         let n = self.free.len();
         let d = self.trial.d.as_mut_slice();
@@ -117,7 +114,6 @@ impl Newmark {
             &mut self.committed,
             &mut self.trial,
         );
-        self.free_valid = false;
         self.solved = false;
     }
 }
