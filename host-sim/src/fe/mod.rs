@@ -5,6 +5,8 @@
 //! - [`element`]: the 12-DOF element matrices;
 //! - [`banded`]: symmetric band storage of the span matrices;
 //! - [`cholesky`]: sparse Cholesky (faer, AMD ordering) of the span's effective stiffness;
+//! - [`component_band`]: the same matrix factorised as narrow bands over its decoupled DOF
+//!   families, for the time loop's solves;
 //! - [`assembly`]: one span, supports, load distribution and interpolation;
 //! - [`newmark`]: average-acceleration Newmark with a once-factorised effective stiffness;
 //! - [`bridge`]: [`FeGuideway`], a whole [`crate::guideway::Bridge`] behind the
@@ -36,6 +38,7 @@ pub mod assembly;
 pub mod banded;
 pub mod bridge;
 pub mod cholesky;
+pub mod component_band;
 pub mod element;
 pub mod modes;
 pub mod newmark;

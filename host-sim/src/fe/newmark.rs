@@ -22,6 +22,7 @@
 
 use super::banded::{SymBanded, SymSparse, ToDense};
 use super::cholesky::{Scratch, SparseCholesky};
+use super::component_band::ComponentBand;
 use crate::Error;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -168,6 +169,9 @@ pub struct SpanNewmark {
     keff: SparseCholesky,
     /// The same factor as a plain column loop (`None` when faer stores it supernodally).
     fast: Option<Simplicial>,
+    /// The banded factor of the decoupled components, used for every solve when it exists
+    /// and is not larger than three times faer's (module docs).
+    band: Option<ComponentBand>,
 }
 
 /// A simplicial LLᵀ factor `P A Pᵀ = L Lᵀ` of faer's, for its solve in faer's order of
@@ -293,14 +297,17 @@ impl SpanNewmark {
             keff = keff.combine(1.0, c, 2.0 / dt);
         }
         let fast = Simplicial::new(&keff);
+        let band = ComponentBand::new(&keff);
         let keff = SparseCholesky::new(&keff)
             .map_err(|e| Error::numerical(format!("effective stiffness: {e}")))?;
+        let band = band.filter(|b| b.stored() <= 3 * keff.factor_nonzeros());
         Ok(SpanNewmark {
             dt,
             m: SymSparse::new(m),
             c: c.as_ref().map(SymSparse::new),
             keff,
             fast,
+            band,
         })
     }
 
@@ -309,10 +316,11 @@ impl SpanNewmark {
         self.dt
     }
 
-    /// Stored values and indices of M, C and the factor, in words.
+    /// Stored values and indices of M, C and the factors, in words.
     pub fn storage_words(&self) -> usize {
         2 * (self.m.nonzeros() + self.c.as_ref().map_or(0, SymSparse::nonzeros))
             + self.keff.factor_nonzeros()
+            + self.band.as_ref().map_or(0, ComponentBand::stored)
     }
 
     /// The effective stiffness factor.
@@ -338,13 +346,37 @@ impl SpanNewmark {
         }
     }
 
-    /// x ← Keff⁻¹ x ([`Simplicial`] when faer's factor is simplicial, the same bits as
-    /// faer's solve). No allocation.
+    /// A scratch for [`Self::solve_in_place`].
+    pub fn scratch(&self) -> Scratch {
+        let mut s = self.keff.scratch();
+        if let Some(b) = &self.band {
+            s.1 = b.work();
+        }
+        s
+    }
+
+    /// x ← Keff⁻¹ x: through the [`ComponentBand`] factor when there is one (equal to faer's
+    /// solve to round-off), else [`Simplicial`] when faer's factor is simplicial (the same
+    /// bits as faer's solve), else faer's. `scratch` from [`Self::scratch`]. No allocation.
     pub fn solve_in_place(&self, x: &mut DVector<f64>, scratch: &mut Scratch) {
+        match (&self.band, &self.fast) {
+            (Some(b), _) => b.solve_in_place(x.as_mut_slice(), &mut scratch.1),
+            (None, Some(f)) => f.solve_in_place(x.as_mut_slice()),
+            (None, None) => self.keff.solve_in_place(x.as_mut_slice(), scratch),
+        }
+    }
+
+    /// x ← Keff⁻¹ x through [`Simplicial`] or faer (the path without [`ComponentBand`]).
+    pub fn solve_in_place_sparse(&self, x: &mut DVector<f64>, scratch: &mut Scratch) {
         match &self.fast {
             Some(f) => f.solve_in_place(x.as_mut_slice()),
             None => self.keff.solve_in_place(x.as_mut_slice(), scratch),
         }
+    }
+
+    /// The solve runs through a [`ComponentBand`] factor.
+    pub fn has_band_solve(&self) -> bool {
+        self.band.is_some()
     }
 
     /// x ← Keff⁻¹ x by faer's own solve (the reference of the fast path's test).
@@ -441,7 +473,7 @@ mod tests {
             for seed in 1..20 {
                 let b = vector(n, seed + 100 * k as u64);
                 let (mut fast, mut slow) = (b.clone(), b);
-                sys.solve_in_place(&mut fast, &mut scratch);
+                sys.solve_in_place_sparse(&mut fast, &mut scratch);
                 sys.solve_in_place_faer(&mut slow, &mut scratch);
                 for i in 0..n {
                     assert_eq!(
