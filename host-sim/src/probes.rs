@@ -398,56 +398,73 @@ impl Recorder for NoRecorder {
 /// The file a [`CsvRecorder`] names in its errors.
 pub const RESPONSE_CSV: &str = "response.csv";
 
+/// Appends `v` to a CSV line as its shortest round-trip decimal (ryu's layout: `0.0`,
+/// `36787.5`, `4.360489000582685e-17`; never needs quoting); nothing for NaN or ±∞ (an empty
+/// cell: not applicable). Every finite value parses back (`str::parse::<f64>`) to the same
+/// bits, `-0.0` included.
+pub fn push_csv_f64(line: &mut Vec<u8>, v: f64) {
+    if v.is_finite() {
+        line.extend_from_slice(ryu::Buffer::new().format_finite(v).as_bytes());
+    }
+}
+
 /// Streams `t, <probes…>, iterations, collision` rows to a CSV file (SI; shortest round-trip
-/// decimals; not-applicable values empty).
+/// decimals, [`push_csv_f64`]; not-applicable values empty).
+///
+/// The header goes through the csv crate (a probe name could need quoting); a row is only
+/// numbers, so it is built in one reusable line and written to the sink as it is.
 pub struct CsvRecorder<W: Write> {
     probes: Probes,
-    out: csv::Writer<W>,
-    cell: Vec<String>,
+    out: W,
+    line: Vec<u8>,
 }
 
 impl<W: Write> CsvRecorder<W> {
     /// Writes the header. A failed write is an [`Error::Io`] on `response.csv` (the caller
     /// that knows the file's path may replace it).
-    pub fn new(probes: Probes, sink: W) -> Result<Self> {
-        let mut out = csv::Writer::from_writer(sink);
-        let mut header = vec!["t".to_string()];
-        header.extend(probes.names.iter().cloned());
-        header.push("iterations".into());
-        header.push("collision".into());
-        out.write_record(&header)
+    pub fn new(probes: Probes, mut sink: W) -> Result<Self> {
+        let mut header = csv::Writer::from_writer(Vec::new());
+        let mut names = vec!["t".to_string()];
+        names.extend(probes.names.iter().cloned());
+        names.push("iterations".into());
+        names.push("collision".into());
+        header
+            .write_record(&names)
             .map_err(|e| Error::io(RESPONSE_CSV, e.into()))?;
-        let cell = vec![String::new(); header.len()];
-        Ok(CsvRecorder { probes, out, cell })
+        let header = header
+            .into_inner()
+            .map_err(|e| Error::io(RESPONSE_CSV, e.into_error()))?;
+        sink.write_all(&header)
+            .map_err(|e| Error::io(RESPONSE_CSV, e))?;
+        Ok(CsvRecorder {
+            probes,
+            out: sink,
+            line: Vec::with_capacity(32 * names.len()),
+        })
     }
 
     /// Flushes and returns the sink.
-    pub fn finish(self) -> Result<W> {
-        self.out
-            .into_inner()
-            .map_err(|e| Error::io(RESPONSE_CSV, e.into_error()))
+    pub fn finish(mut self) -> Result<W> {
+        self.out.flush().map_err(|e| Error::io(RESPONSE_CSV, e))?;
+        Ok(self.out)
     }
 }
 
 impl<W: Write> Recorder for CsvRecorder<W> {
     fn record(&mut self, step: &StepView) -> Result<()> {
-        use std::fmt::Write as _;
-        let n = self.probes.probes.len();
-        for c in &mut self.cell {
-            c.clear();
+        let line = &mut self.line;
+        line.clear();
+        push_csv_f64(line, step.t);
+        for p in &self.probes.probes {
+            line.push(b',');
+            push_csv_f64(line, step.value(p));
         }
-        let _ = write!(self.cell[0], "{}", step.t);
-        for (k, p) in self.probes.probes.iter().enumerate() {
-            let v = step.value(p);
-            if v.is_finite() {
-                let _ = write!(self.cell[k + 1], "{v}");
-            }
-        }
-        let _ = write!(self.cell[n + 1], "{}", step.iterations);
-        let _ = write!(self.cell[n + 2], "{}", u8::from(step.collision));
+        let _ = write!(line, ",{},", step.iterations);
+        line.push(if step.collision { b'1' } else { b'0' });
+        line.push(b'\n');
         self.out
-            .write_record(&self.cell)
-            .map_err(|e| Error::io(RESPONSE_CSV, e.into()))
+            .write_all(line)
+            .map_err(|e| Error::io(RESPONSE_CSV, e))
     }
 }
 
@@ -471,6 +488,88 @@ mod tests {
             }
             other => panic!("{name}: not an Invalid error: {other}"),
         }
+    }
+
+    /// A row of awkward values through the recorder: every cell parses back to the value's
+    /// bits (`-0.0` stays `-0.0`), not-applicable values are empty cells, and the integers
+    /// are plain.
+    #[test]
+    fn csv_cells_parse_back_to_the_same_bits() {
+        let values = [
+            f64::from_bits(1),       // the smallest subnormal
+            f64::MIN_POSITIVE / 3.0, // a subnormal with many digits
+            1e-300,
+            -0.0,
+            0.0,
+            0.1 + 0.2, // 0.30000000000000004
+            f64::MAX,
+            f64::MIN,
+            4.360489000582685e-17, // Display: 0.00000000000000004360489000582685
+            -3.51385004004739e-23,
+            36787.41873257823,
+            1e21,
+            123456789012345680.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let n = values.len();
+        let e = Extent {
+            spans: 1,
+            wheels: n,
+            cars: 0,
+            magnets: false,
+        };
+        let names: Vec<String> = (1..=n).map(|k| format!("wheel{k}.force_z")).collect();
+        let probes = Probes::new(Some(&names), &e).unwrap();
+        let mut rec = CsvRecorder::new(probes, Vec::new()).unwrap();
+        let g = crate::setup::RigidGuideway::new(1e-3);
+        let points = vec![(0.0, 0.0, 0.0); n];
+        let t = 0.1 + 0.2;
+        let step = StepView {
+            t,
+            guideway: &g,
+            midspans: &[],
+            wheels: Wheels::Forces {
+                points: &points,
+                forces: &values,
+            },
+            iterations: 17,
+            collision: true,
+        };
+        rec.record(&step).unwrap();
+        rec.record(&StepView {
+            collision: false,
+            ..step
+        })
+        .unwrap();
+        let text = String::from_utf8(rec.finish().unwrap()).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 3, "{text}");
+        assert_eq!(
+            lines[0],
+            format!("t,{},iterations,collision", names.join(","))
+        );
+        for (row, collision) in [(lines[1], "1"), (lines[2], "0")] {
+            let cells: Vec<&str> = row.split(',').collect();
+            assert_eq!(cells.len(), n + 3, "{row}");
+            assert_eq!(cells[0].parse::<f64>().unwrap().to_bits(), t.to_bits());
+            for (v, c) in values.iter().zip(&cells[1..=n]) {
+                if v.is_finite() {
+                    let back: f64 = c.parse().unwrap_or_else(|_| panic!("{c:?}"));
+                    assert_eq!(back.to_bits(), v.to_bits(), "{v:e} written as {c:?}");
+                } else {
+                    assert_eq!(*c, "", "{v} is not applicable: an empty cell");
+                }
+            }
+            assert_eq!(cells[n + 1], "17");
+            assert_eq!(cells[n + 2], collision);
+        }
+        // Small values in exponent form, not Display's run of zeros; -0.0 keeps its sign.
+        let cells: Vec<&str> = lines[1].split(',').collect();
+        assert_eq!(cells[9], "4.360489000582685e-17");
+        assert_eq!(cells[4], "-0.0");
+        assert!(text.ends_with("0\n") && !text.contains('\r'));
     }
 
     #[test]
