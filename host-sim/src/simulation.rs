@@ -314,9 +314,17 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     let mut contact_ranges: Vec<(f64, f64)> = v.contacts.iter().map(|c| (c.p0, c.p0)).collect();
     let mut collision_steps = 0;
     let mut contact_loss_steps = 0;
-    let mut profile: Vec<[f64; 3]> = Vec::with_capacity((steps + 1) * v.nodes.len());
-    for x0 in v.node_x0() {
-        profile.push([x0, (profiles.y)(x0), (profiles.z)(x0)]);
+    // The irregularity under every wheel and contact, one ascending run per point (rows at
+    // equal x are equal, so the order of the runs does not show after the sort).
+    let run = steps + 1;
+    let mut profile: Vec<[f64; 3]> = vec![[0.0; 3]; run * (nw + nc)];
+    let x0s = v
+        .wheels
+        .iter()
+        .map(|w| w.x0)
+        .chain(v.contacts.iter().map(|c| c.x0));
+    for (k, x0) in x0s.enumerate() {
+        profile[k * run] = [x0, (profiles.y)(x0), (profiles.z)(x0)];
     }
     let mut veh = TrainState::new(v, dt)?;
     // Train-wide DOF indices for the probes (cars concatenated in order).
@@ -401,12 +409,12 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
             xs[i] = w.x0 + s.speed * t;
             rz[i] = (profiles.z)(xs[i]);
             ry[i] = (profiles.y)(xs[i]);
-            profile.push([xs[i], ry[i], rz[i]]);
+            profile[i * run + n] = [xs[i], ry[i], rz[i]];
         }
         for (j, c) in v.contacts.iter().enumerate() {
             cx[j] = c.x0 + s.speed * t;
             crz[j] = (profiles.z)(cx[j]);
-            profile.push([cx[j], (profiles.y)(cx[j]), crz[j]]);
+            profile[(nw + j) * run + n] = [cx[j], (profiles.y)(cx[j]), crz[j]];
         }
         // Gaps at t from a displacement estimate (the committed state on the first pass).
         let gaps = |trial: bool, veh: &TrainState, gw: &G, out: &mut [WheelGaps]| {

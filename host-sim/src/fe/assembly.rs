@@ -170,10 +170,14 @@ impl SpanModel {
     /// Element `e`'s 12 DOFs gathered from a free-DOF vector (supported DOFs are zero).
     pub fn gather(&self, d: &DVector<f64>, e: usize) -> ElementVector<f64> {
         let base = e * DOFS_PER_NODE;
-        ElementVector::from_fn(|i, _| match self.free_index[base + i] {
-            Some(f) => d[f],
-            None => 0.0,
-        })
+        let (idx, d) = (&self.free_index[base..base + ELEMENT_DOFS], d.as_slice());
+        let mut out = ElementVector::zeros();
+        for (o, i) in out.iter_mut().zip(idx) {
+            if let Some(f) = *i {
+                *o = d[f];
+            }
+        }
+        out
     }
 
     /// The wheel shape at span-local `x` with offset `(ey, ez)`: element index and rows.
@@ -200,9 +204,13 @@ impl SpanModel {
         };
         let fe = shape.nodal_forces(fy, fz);
         let base = e * DOFS_PER_NODE;
-        for i in 0..ELEMENT_DOFS {
-            if let Some(fi) = self.free_index[base + i] {
-                f[fi] += fe[i];
+        let (idx, f) = (
+            &self.free_index[base..base + ELEMENT_DOFS],
+            f.as_mut_slice(),
+        );
+        for (i, fe) in idx.iter().zip(fe.iter()) {
+            if let Some(fi) = *i {
+                f[fi] += fe;
             }
         }
     }
