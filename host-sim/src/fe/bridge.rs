@@ -181,7 +181,7 @@ impl FeGuideway {
                 load: DVector::zeros(n),
                 rhs_free: DVector::zeros(n),
                 pred: DVector::zeros(n),
-                scratch: sys.newmark.scratch(),
+                scratch: sys.newmark.factor().scratch(),
                 committed_at_rest: true,
                 trial_at_rest: true,
                 loaded: false,

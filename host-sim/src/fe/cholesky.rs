@@ -29,9 +29,8 @@ pub struct SparseCholesky {
     values: Vec<f64>,
 }
 
-/// Scratch space for [`SparseCholesky::solve_in_place`], sized once; `work` is the work
-/// vector of a [`super::component_band::ComponentBand`] solve (empty unless one is used).
-pub struct Scratch(MemBuffer, pub(super) Vec<f64>);
+/// Scratch space for [`SparseCholesky::solve_in_place`], sized once.
+pub struct Scratch(MemBuffer);
 
 impl core::fmt::Debug for Scratch {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -86,10 +85,9 @@ impl SparseCholesky {
 
     /// A scratch buffer for one right-hand side.
     pub fn scratch(&self) -> Scratch {
-        Scratch(
-            MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
-            Vec::new(),
-        )
+        Scratch(MemBuffer::new(
+            self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+        ))
     }
 
     /// x ← A⁻¹ x, no allocation.

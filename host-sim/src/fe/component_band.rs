@@ -11,10 +11,11 @@
 //! (another ordering), so the solves agree with faer's to round-off, not bit for bit (test
 //! `solve_matches_faer`).
 //!
-//! Layout: the components follow one another in a work vector; each row stores exactly `B`
-//! coefficients for each substitution (zeros beyond its component), `B` the largest
-//! half-bandwidth of any component (at most [`MAX_BAND`]), a compile-time constant of the
-//! kernel, which keeps the last `B` values in registers.
+//! Layout: the components' rows follow one another, each storing exactly `B` coefficients
+//! for each substitution (zeros beyond its component) and the original index it solves for,
+//! so the solve works on the caller's vector in place; `B` is the largest half-bandwidth of
+//! any component (at most [`MAX_BAND`]), a compile-time constant of the kernel, which keeps
+//! the last `B` values in registers.
 
 use super::banded::SymBanded;
 
@@ -28,8 +29,8 @@ pub struct ComponentBand {
     n: usize,
     /// Half-bandwidth B of every row's storage.
     b: usize,
-    /// Work-vector slot of each original index.
-    slot: Vec<usize>,
+    /// Original index of each slot.
+    orig: Vec<usize>,
     /// Slot ranges of the components, in order (together, `0..n`).
     components: Vec<(usize, usize)>,
     /// Per slot p: `L[p, p−B..p]` (zero before the component's start) then `1/L[p, p]`.
@@ -86,13 +87,10 @@ impl ComponentBand {
             return None;
         }
         let w = b + 1;
-        let mut slot = vec![0; n];
+        // The factor is computed on a padded layout (B zero rows around each component).
         let mut components = Vec::with_capacity(members.len());
         let mut next = b;
         for m in &members {
-            for (k, &i) in m.iter().enumerate() {
-                slot[i] = next + k;
-            }
             components.push((next, next + m.len()));
             next += m.len() + b;
         }
@@ -120,7 +118,7 @@ impl ComponentBand {
                 }
             }
         }
-        // Pack without the padding: slot p of the solve is padded slot p + B·(c + 1) for
+        // Packed without the padding: slot p of the solve is padded slot p + B·(c + 1) for
         // component c.
         let mut fwd = vec![0.0; n * w];
         let mut bwd = vec![0.0; n * w];
@@ -139,17 +137,11 @@ impl ComponentBand {
                 q += 1;
             }
         }
-        let slot = slot
-            .iter()
-            .map(|&p| {
-                let c = components.partition_point(|&(start, _)| start <= p) - 1;
-                packed[c].0 + (p - components[c].0)
-            })
-            .collect();
+        let orig = members.concat();
         Some(ComponentBand {
             n,
             b,
-            slot,
+            orig,
             components: packed,
             fwd,
             bwd,
@@ -166,47 +158,39 @@ impl ComponentBand {
         self.fwd.len() + self.bwd.len()
     }
 
-    /// A work vector for [`Self::solve_in_place`].
-    pub fn work(&self) -> Vec<f64> {
-        vec![0.0; self.n]
-    }
-
-    /// x ← A⁻¹ x through `work` (from [`Self::work`]). No allocation.
-    pub fn solve_in_place(&self, x: &mut [f64], work: &mut [f64]) {
+    /// x ← A⁻¹ x. No allocation.
+    pub fn solve_in_place(&self, x: &mut [f64]) {
         assert_eq!(x.len(), self.n, "dimension mismatch");
-        assert_eq!(work.len(), self.n, "work size");
         match self.b {
-            1 => self.solve::<1>(x, work),
-            2 => self.solve::<2>(x, work),
-            3 => self.solve::<3>(x, work),
-            4 => self.solve::<4>(x, work),
-            5 => self.solve::<5>(x, work),
-            _ => self.solve::<MAX_BAND>(x, work),
+            1 => self.solve::<1>(x),
+            2 => self.solve::<2>(x),
+            3 => self.solve::<3>(x),
+            4 => self.solve::<4>(x),
+            5 => self.solve::<5>(x),
+            _ => self.solve::<MAX_BAND>(x),
         }
     }
 
     /// The substitutions with the last B values in a register window (no index loads, no
     /// bounds case at a component's ends: the window starts at zero).
-    fn solve<const B: usize>(&self, x: &mut [f64], w: &mut [f64]) {
-        for (&s, &xi) in self.slot.iter().zip(x.iter()) {
-            w[s] = xi;
-        }
+    fn solve<const B: usize>(&self, x: &mut [f64]) {
         for &(start, end) in &self.components {
+            let orig = &self.orig[start..end];
             // A component without load (the axial DOFs of a span under vertical and lateral
             // loads) stays at zero: nothing to solve.
-            if w[start..end].iter().all(|&v| v == 0.0) {
+            if orig.iter().all(|&i| x[i] == 0.0) {
                 continue;
             }
             // Forward L y = x: y_p = (x_p − Σ_k L[p, p−B+k] y_{p−B+k}) / L[p, p].
             let mut win = [0.0; B];
             let rows = self.fwd[start * (B + 1)..end * (B + 1)].chunks_exact(B + 1);
-            for (row, wp) in rows.zip(&mut w[start..end]) {
+            for (row, &i) in rows.zip(orig) {
                 let mut acc = 0.0;
                 for k in 0..B {
                     acc += row[k] * win[k];
                 }
-                let y = (*wp - acc) * row[B];
-                *wp = y;
+                let y = (x[i] - acc) * row[B];
+                x[i] = y;
                 for k in 1..B {
                     win[k - 1] = win[k];
                 }
@@ -215,21 +199,18 @@ impl ComponentBand {
             // Back Lᵀ x = y: x_p = (y_p − Σ_k L[p+1+k, p] x_{p+1+k}) / L[p, p].
             let mut win = [0.0; B];
             let rows = self.bwd[start * (B + 1)..end * (B + 1)].chunks_exact(B + 1);
-            for (row, wp) in rows.rev().zip(w[start..end].iter_mut().rev()) {
+            for (row, &i) in rows.rev().zip(orig.iter().rev()) {
                 let mut acc = 0.0;
                 for k in 0..B {
                     acc += row[k] * win[k];
                 }
-                let x = (*wp - acc) * row[B];
-                *wp = x;
+                let v = (x[i] - acc) * row[B];
+                x[i] = v;
                 for k in (1..B).rev() {
                     win[k] = win[k - 1];
                 }
-                win[0] = x;
+                win[0] = v;
             }
-        }
-        for (&s, xi) in self.slot.iter().zip(x.iter_mut()) {
-            *xi = w[s];
         }
     }
 }
@@ -258,11 +239,11 @@ mod tests {
     fn check(a: &SymBanded, what: &str) {
         let band = ComponentBand::new(a).expect(what);
         let faer = SparseCholesky::new(a).unwrap();
-        let (mut work, mut scratch) = (band.work(), faer.scratch());
+        let mut scratch = faer.scratch();
         for seed in 1..20 {
             let rhs = vector(a.nrows(), seed);
             let (mut x, mut want) = (rhs.clone(), rhs);
-            band.solve_in_place(&mut x, &mut work);
+            band.solve_in_place(&mut x);
             faer.solve_in_place(&mut want, &mut scratch);
             let peak = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             for (i, (x, w)) in x.iter().zip(&want).enumerate() {

@@ -346,21 +346,12 @@ impl SpanNewmark {
         }
     }
 
-    /// A scratch for [`Self::solve_in_place`].
-    pub fn scratch(&self) -> Scratch {
-        let mut s = self.keff.scratch();
-        if let Some(b) = &self.band {
-            s.1 = b.work();
-        }
-        s
-    }
-
     /// x ← Keff⁻¹ x: through the [`ComponentBand`] factor when there is one (equal to faer's
     /// solve to round-off), else [`Simplicial`] when faer's factor is simplicial (the same
-    /// bits as faer's solve), else faer's. `scratch` from [`Self::scratch`]. No allocation.
+    /// bits as faer's solve), else faer's. No allocation.
     pub fn solve_in_place(&self, x: &mut DVector<f64>, scratch: &mut Scratch) {
         match (&self.band, &self.fast) {
-            (Some(b), _) => b.solve_in_place(x.as_mut_slice(), &mut scratch.1),
+            (Some(b), _) => b.solve_in_place(x.as_mut_slice()),
             (None, Some(f)) => f.solve_in_place(x.as_mut_slice()),
             (None, None) => self.keff.solve_in_place(x.as_mut_slice(), scratch),
         }

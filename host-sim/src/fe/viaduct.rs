@@ -355,7 +355,7 @@ impl Viaduct {
         let n = structure.dofs();
         Ok(Viaduct {
             spec: spec.clone(),
-            scratch: newmark.scratch(),
+            scratch: newmark.factor().scratch(),
             structure,
             layout,
             dt,
