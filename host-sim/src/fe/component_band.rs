@@ -23,6 +23,11 @@ use super::banded::SymBanded;
 /// factor.
 pub const MAX_BAND: usize = 6;
 
+/// Components substituted together: their recurrences are independent, so interleaving
+/// them row by row lets the processor overlap them (one alone is a chain of dependent
+/// multiply-adds, latency-bound).
+const LANES: usize = 4;
+
 /// The factor (module docs).
 #[derive(Clone, Debug)]
 pub struct ComponentBand {
@@ -174,42 +179,64 @@ impl ComponentBand {
     /// The substitutions with the last B values in a register window (no index loads, no
     /// bounds case at a component's ends: the window starts at zero).
     fn solve<const B: usize>(&self, x: &mut [f64]) {
-        for &(start, end) in &self.components {
-            let orig = &self.orig[start..end];
-            // A component without load (the axial DOFs of a span under vertical and lateral
-            // loads) stays at zero: nothing to solve.
-            if orig.iter().all(|&i| x[i] == 0.0) {
-                continue;
+        let mut next = 0;
+        while next < self.components.len() {
+            // Up to LANES components with load (one without, such as the axial DOFs of a
+            // span under vertical and lateral loads, stays at zero: nothing to solve).
+            let mut lanes = [(0, 0); LANES];
+            let mut m = 0;
+            while next < self.components.len() && m < LANES {
+                let (start, end) = self.components[next];
+                next += 1;
+                if self.orig[start..end].iter().any(|&i| x[i] != 0.0) {
+                    lanes[m] = (start, end);
+                    m += 1;
+                }
             }
+            let lanes = &lanes[..m];
+            let len = lanes.iter().map(|&(s, e)| e - s).max().unwrap_or(0);
             // Forward L y = x: y_p = (x_p − Σ_k L[p, p−B+k] y_{p−B+k}) / L[p, p].
-            let mut win = [0.0; B];
-            let rows = self.fwd[start * (B + 1)..end * (B + 1)].chunks_exact(B + 1);
-            for (row, &i) in rows.zip(orig) {
-                let mut acc = 0.0;
-                for k in 0..B {
-                    acc += row[k] * win[k];
+            let mut win = [[0.0; B]; LANES];
+            for r in 0..len {
+                for (&(start, end), win) in lanes.iter().zip(&mut win) {
+                    let p = start + r;
+                    if p >= end {
+                        continue;
+                    }
+                    let row = &self.fwd[p * (B + 1)..(p + 1) * (B + 1)];
+                    let i = self.orig[p];
+                    let mut acc = 0.0;
+                    for k in 0..B {
+                        acc += row[k] * win[k];
+                    }
+                    let y = (x[i] - acc) * row[B];
+                    x[i] = y;
+                    for k in 1..B {
+                        win[k - 1] = win[k];
+                    }
+                    win[B - 1] = y;
                 }
-                let y = (x[i] - acc) * row[B];
-                x[i] = y;
-                for k in 1..B {
-                    win[k - 1] = win[k];
-                }
-                win[B - 1] = y;
             }
             // Back Lᵀ x = y: x_p = (y_p − Σ_k L[p+1+k, p] x_{p+1+k}) / L[p, p].
-            let mut win = [0.0; B];
-            let rows = self.bwd[start * (B + 1)..end * (B + 1)].chunks_exact(B + 1);
-            for (row, &i) in rows.rev().zip(orig.iter().rev()) {
-                let mut acc = 0.0;
-                for k in 0..B {
-                    acc += row[k] * win[k];
+            let mut win = [[0.0; B]; LANES];
+            for r in 0..len {
+                for (&(start, end), win) in lanes.iter().zip(&mut win) {
+                    let Some(p) = (end - 1).checked_sub(r).filter(|&p| p >= start) else {
+                        continue;
+                    };
+                    let row = &self.bwd[p * (B + 1)..(p + 1) * (B + 1)];
+                    let i = self.orig[p];
+                    let mut acc = 0.0;
+                    for k in 0..B {
+                        acc += row[k] * win[k];
+                    }
+                    let v = (x[i] - acc) * row[B];
+                    x[i] = v;
+                    for k in (1..B).rev() {
+                        win[k] = win[k - 1];
+                    }
+                    win[0] = v;
                 }
-                let v = (x[i] - acc) * row[B];
-                x[i] = v;
-                for k in (1..B).rev() {
-                    win[k] = win[k - 1];
-                }
-                win[0] = v;
             }
         }
     }
