@@ -11,11 +11,146 @@
 //! the loaded DOFs (the wheels and contacts: a few columns of n entries); velocity and
 //! acceleration are completed once, on [`Newmark::commit`]. Against one full step per
 //! iteration this reorders sums only: round-off (test `split_step_matches_the_full_step`).
+//!
+//! The load-free response itself is [`FreeStep`]: the integrator's own operations
+//! (`fe::Newmark::step_into` with a zero load: its predictors, its column-ordered gemv with M
+//! and C, nalgebra's two triangular Cholesky solves with their 8-way unrolled dot) in the same
+//! order, over the non-zero entries of M, C and the factor only, and without the velocity and
+//! acceleration that the split step discards. For finite states the skipped terms are exact
+//! zeros added to sums that are never −0, so the bits are the integrator's (test
+//! `free_step_gives_the_integrators_bits`).
 
 use crate::fe::newmark::complete_step;
 use crate::fe::{Newmark as Integrator, State};
 use crate::{Error, Result};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{Cholesky, DMatrix, DVector};
+
+/// The load-free displacement of the step, `Keff⁻¹ (M (a₀ d + a₂ v + a) + C (a₁ d + v))`, in
+/// exactly the floating-point operations of [`Integrator::step_into`] under a zero load
+/// (module docs), the zero entries of M, C and the Cholesky factor L skipped.
+struct FreeStep {
+    /// a₀ = 4/Δt², a₁ = 2/Δt, a₂ = 4/Δt as the integrator forms them.
+    a0: f64,
+    a1: f64,
+    a2: f64,
+    /// Non-zero `(row, column, value)` of M and of C, column by column (the gemv's order).
+    m: Vec<(usize, usize, f64)>,
+    c: Vec<(usize, usize, f64)>,
+    /// `L[i, i]`.
+    diag: Vec<f64>,
+    /// Non-zero strict-lower entries of L, column by column: `(row k, L[k, i], slot)`, slot
+    /// the accumulator of nalgebra's unrolled dot that the backward solve of row i puts the
+    /// term in (`k − i − 1` mod 8 inside the whole chunks of 8, [`TAIL`] after them).
+    lower: Vec<(usize, f64, usize)>,
+    /// Per column i: `lower[start[i]..start[i + 1]]`, and the first tail entry `split[i]`.
+    start: Vec<usize>,
+    split: Vec<usize>,
+    /// Scratch: the damping predictor `a₁ d + v` (the inertia one is built in place).
+    pred: Vec<f64>,
+    inertia: Vec<f64>,
+}
+
+/// The slot of a term of the backward dot outside the unrolled chunks.
+const TAIL: usize = 8;
+
+impl FreeStep {
+    /// From the integrator's M, C, K and step (the factor recomputed as the integrator
+    /// computes it: the same matrix, the same nalgebra Cholesky, so the same bits).
+    fn new(m: &DMatrix<f64>, c: &DMatrix<f64>, k: &DMatrix<f64>, dt: f64) -> Option<Self> {
+        let n = m.nrows();
+        let mut keff = k + m * (4.0 / (dt * dt));
+        keff += c * (2.0 / dt);
+        let l = Cholesky::new(keff)?.l();
+        let entries = |a: &DMatrix<f64>| {
+            let mut e = Vec::new();
+            for j in 0..n {
+                for i in 0..n {
+                    if a[(i, j)] != 0.0 {
+                        e.push((i, j, a[(i, j)]));
+                    }
+                }
+            }
+            e
+        };
+        let (mut lower, mut start, mut split) = (Vec::new(), vec![0], Vec::with_capacity(n));
+        for i in 0..n {
+            // nalgebra's dot over L[i+1.., i] (length len): whole chunks of 8 first.
+            let len = n - 1 - i;
+            let chunked = len - len % 8;
+            let mut first_tail = None;
+            for kk in i + 1..n {
+                let p = kk - i - 1;
+                let slot = if p < chunked { p % 8 } else { TAIL };
+                if l[(kk, i)] != 0.0 {
+                    if slot == TAIL && first_tail.is_none() {
+                        first_tail = Some(lower.len());
+                    }
+                    lower.push((kk, l[(kk, i)], slot));
+                }
+            }
+            split.push(first_tail.unwrap_or(lower.len()));
+            start.push(lower.len());
+        }
+        Some(FreeStep {
+            a0: 4.0 / (dt * dt),
+            a1: 2.0 / dt,
+            a2: 4.0 / dt,
+            m: entries(m),
+            c: entries(c),
+            diag: (0..n).map(|i| l[(i, i)]).collect(),
+            lower,
+            start,
+            split,
+            pred: vec![0.0; n],
+            inertia: vec![0.0; n],
+        })
+    }
+
+    /// `out ← Keff⁻¹ r(from)`. No allocation.
+    fn solve(&mut self, from: &State, out: &mut [f64]) {
+        let (d, v, a) = (from.d.as_slice(), from.v.as_slice(), from.a.as_slice());
+        let (a0, a1, a2) = (self.a0, self.a1, self.a2);
+        // The predictors as the integrator's axpys form them (a product by 1 is exact).
+        for i in 0..out.len() {
+            self.inertia[i] = a2 * v[i] + (a0 * d[i] + a[i]);
+            self.pred[i] = a1 * d[i] + v[i];
+        }
+        // r = 0 + M·inertia + C·pred, column by column (each `y + p` of the gemv and of the
+        // axpys below written `y += p`: IEEE addition commutes bit for bit).
+        out.fill(0.0);
+        for &(i, j, x) in &self.m {
+            out[i] += x * self.inertia[j];
+        }
+        for &(i, j, x) in &self.c {
+            out[i] += x * self.pred[j];
+        }
+        // L y = r (nalgebra's column axpys).
+        let n = out.len();
+        for i in 0..n {
+            let coeff = out[i] / self.diag[i];
+            out[i] = coeff;
+            for &(k, l, _) in &self.lower[self.start[i]..self.start[i + 1]] {
+                out[k] += -coeff * l;
+            }
+        }
+        // Lᵀ x = y (nalgebra's dot: 8 accumulators over whole chunks, then the tail).
+        for i in (0..n).rev() {
+            let mut acc = [0.0f64; 8];
+            for &(k, l, slot) in &self.lower[self.start[i]..self.split[i]] {
+                acc[slot] += l * out[k];
+            }
+            let mut res = 0.0;
+            res += acc[0] + acc[4];
+            res += acc[1] + acc[5];
+            res += acc[2] + acc[6];
+            res += acc[3] + acc[7];
+            for &(k, l, _) in &self.lower[self.split[i]..self.start[i + 1]] {
+                res += l * out[k];
+            }
+            out[i] = (out[i] - res) / self.diag[i];
+        }
+    }
+}
 
 /// `M ü + C u̇ + K u = f` with a fixed step, committed and trial states.
 pub struct Newmark {
@@ -24,11 +159,9 @@ pub struct Newmark {
     trial: State,
     /// `Keff⁻¹`, column-major: column j is the step's displacement for a unit load on DOF j.
     flex: Vec<f64>,
-    /// The step's load-free displacement `Keff⁻¹ r` (valid when `solved`).
-    free: DVector<f64>,
-    /// A zero load and a scratch state for the load-free step.
-    zero: DVector<f64>,
-    scratch: State,
+    /// The load-free step and its displacement `Keff⁻¹ r` (valid when `solved`).
+    free_step: FreeStep,
+    free: Vec<f64>,
     /// A solve since the last commit (and so `free` is this step's).
     solved: bool,
 }
@@ -37,11 +170,16 @@ impl Newmark {
     /// Starts at rest (a system written in deviations from its static equilibrium).
     pub fn new(m: DMatrix<f64>, c: DMatrix<f64>, k: DMatrix<f64>, dt: f64) -> Result<Self> {
         let n = m.nrows();
-        let integrator = Integrator::with_damping_matrix(&k, &m, Some(c), dt).map_err(|e| {
+        let singular = |e: &dyn std::fmt::Display| {
             Error::numerical(format!(
                 "vehicle: {e} (a DOF with no mass, damping or stiffness?)"
             ))
-        })?;
+        };
+        // The integrator first: its errors (a bad step, no factor) are the ones to report.
+        let integrator = Integrator::with_damping_matrix(&k, &m, Some(c.clone()), dt)
+            .map_err(|e| singular(&e))?;
+        let free_step = FreeStep::new(&m, &c, &k, dt)
+            .ok_or_else(|| singular(&"effective stiffness is not positive definite"))?;
         // From rest the step is Keff⁻¹ f: a unit load per DOF gives Keff⁻¹'s columns.
         let rest = State::zeros(n);
         let mut scratch = State::zeros(n);
@@ -58,9 +196,8 @@ impl Newmark {
             committed: State::zeros(n),
             trial: State::zeros(n),
             flex,
-            free: DVector::zeros(n),
-            zero: DVector::zeros(n),
-            scratch,
+            free_step,
+            free: vec![0.0; n],
             solved: false,
         })
     }
@@ -85,16 +222,13 @@ impl Newmark {
     /// `f` (module docs). No allocation.
     pub fn solve(&mut self, f: &DVector<f64>) {
         if !self.solved {
-            self.integrator
-                .step_into(&self.committed, &self.zero, &mut self.scratch);
-            self.free.copy_from(&self.scratch.d);
+            self.free_step.solve(&self.committed, &mut self.free);
         }
         let n = self.free.len();
         let d = self.trial.d.as_mut_slice();
-        d.copy_from_slice(self.free.as_slice());
-        for (j, &fj) in f.as_slice().iter().enumerate() {
+        d.copy_from_slice(&self.free);
+        for (col, &fj) in self.flex.chunks_exact(n.max(1)).zip(f.as_slice()) {
             if fj != 0.0 {
-                let col = &self.flex[j * n..(j + 1) * n];
                 for (d, &k) in d.iter_mut().zip(col) {
                     *d += k * fj;
                 }
@@ -203,6 +337,67 @@ mod tests {
         }
         // The chain was really excited (not a test of zeros).
         assert!(peak[0] > 1e-5, "peak displacement {}", peak[0]);
+    }
+
+    /// The load-free step gives the integrator's bits (`fe::Newmark::step_into` under a zero
+    /// load): on the three car kinds (Fig. 1 with massless wheels, Fig. 6, wheel–rail) and on
+    /// a dense 20-DOF system with a massless DOF (every slot of the unrolled dot used), from
+    /// 200 pseudo-random states each (entries over eight decades, some exactly zero).
+    #[test]
+    fn free_step_gives_the_integrators_bits() {
+        use crate::vehicle::{Fig1, Train, VehicleModel};
+        let mut systems = Vec::new();
+        let fig1 = VehicleModel::fig1(&Fig1::default(), 9.81).unwrap();
+        systems.push((fig1.m.clone(), fig1.c.clone(), fig1.k_on_rigid_rail()));
+        for train in [
+            Train::fig6(1, 9.81).unwrap(),
+            Train::wheel_rail(1, 9.81).unwrap(),
+        ] {
+            let car = &train.cars[0];
+            systems.push((car.m.clone(), car.c.clone(), car.k_on_rigid_rail()));
+        }
+        let n = 20;
+        let mut seed = 0x9E37_79B9_7F4A_7C15_u64;
+        let b = DMatrix::from_fn(n, n, |_, _| noise(&mut seed));
+        let k = &b * b.transpose() + DMatrix::identity(n, n) * 1e3;
+        let cb = DMatrix::from_fn(n, n, |_, _| noise(&mut seed));
+        let c = &cb * cb.transpose() * 10.0;
+        let m = DMatrix::from_fn(n, n, |i, j| match (i == j, i) {
+            (true, 7) => 0.0,
+            (true, _) => 50.0 + i as f64,
+            _ => 0.0,
+        });
+        systems.push((m, c, k));
+        for (m, c, k) in systems {
+            let n = m.nrows();
+            let dt = 1e-3;
+            let full = Integrator::with_damping_matrix(&k, &m, Some(c.clone()), dt).unwrap();
+            let mut free = FreeStep::new(&m, &c, &k, dt).unwrap();
+            let (zero, mut to) = (DVector::zeros(n), State::zeros(n));
+            let mut out = vec![0.0; n];
+            for _ in 0..200 {
+                let mut from = State::zeros(n);
+                for x in from
+                    .d
+                    .iter_mut()
+                    .chain(from.v.iter_mut())
+                    .chain(from.a.iter_mut())
+                {
+                    let r = noise(&mut seed);
+                    *x = if r.abs() < 0.05 {
+                        0.0
+                    } else {
+                        r * 10f64.powi((r * 1e6) as i32 % 8 - 6)
+                    };
+                }
+                full.step_into(&from, &zero, &mut to);
+                free.solve(&from, &mut out);
+                for (i, (x, y)) in out.iter().zip(to.d.iter()).enumerate() {
+                    assert_eq!(x.to_bits(), y.to_bits(), "DOF {i} of {n}");
+                }
+                assert!(out.iter().any(|&x| x != 0.0));
+            }
+        }
     }
 
     #[test]

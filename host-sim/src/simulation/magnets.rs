@@ -23,16 +23,33 @@ struct WheelCtl {
     pair: GapPairState<f64>,
 }
 
+/// The trial state of a step, if any.
+#[derive(Clone, Copy, PartialEq)]
+enum Pending {
+    None,
+    /// In `mag_st` ([`CoreMagnets::paper_batch`]).
+    Batch,
+    /// In `trial`.
+    General,
+}
+
 /// The core's controllers of every wheel, committed and trial states.
 pub struct CoreMagnets {
     ctl: Vec<WheelCtl>,
     /// Per magnet (levitation, guidance left, right of each wheel): its controller, state
     /// and per-unit gap, for the interleaved update of the paper's law.
     mags: Vec<Levitation<f64>>,
+    /// The committed inner states in that order (the wheels' `lev_state.inner`,
+    /// `pair.left.inner`, `pair.right.inner`, refreshed on every commit) and the trial.
+    mag_committed: Vec<State<f64>>,
     mag_st: Vec<State<f64>>,
     mag_h: Vec<f64>,
     mag_out: Vec<Output<f64>>,
+    /// The trial of the general path (one entry per wheel); the paper batch's trial is the
+    /// inner states in `mag_st` (its filters `q` stay the committed ones).
     trial: Vec<(GapState<f64>, GapPairState<f64>)>,
+    /// Which trial the last `forces` left.
+    pending: Pending,
     status: Status,
     geometry: Geometry,
 }
@@ -79,16 +96,27 @@ impl CoreMagnets {
         }
         let mags: Vec<Levitation<f64>> = ctl.iter().flat_map(|c| [c.lev; 3]).collect();
         let n = mags.len();
-        Ok(CoreMagnets {
+        let mut m = CoreMagnets {
             mags,
-            mag_st: Vec::with_capacity(n),
-            mag_h: Vec::with_capacity(n),
+            mag_committed: vec![State::default(); n],
+            mag_st: vec![State::default(); n],
+            mag_h: vec![0.0; n],
             mag_out: vec![Output::default(); n],
             trial: Vec::with_capacity(ctl.len()),
+            pending: Pending::None,
             ctl,
             status: Status::default(),
             geometry: s.geometry,
-        })
+        };
+        m.gather_committed();
+        Ok(m)
+    }
+
+    /// `mag_committed` from the wheels' committed states.
+    fn gather_committed(&mut self) {
+        for (c, st) in self.ctl.iter().zip(self.mag_committed.chunks_exact_mut(3)) {
+            st.copy_from_slice(&[c.lev_state.inner, c.pair.left.inner, c.pair.right.inner]);
+        }
     }
 }
 
@@ -97,57 +125,44 @@ impl CoreMagnets {
     /// `Levitation::update` per magnet), the guidance pairs' net forces by the core's
     /// [`guidance::update_with`] on the outputs. Finite gaps only (the per-unit guidance gaps
     /// `1 ± d` are then formed as the core forms them).
+    ///
+    /// The trial inner states stay in `mag_st` ([`Pending::Batch`]); `commit` takes them.
     fn paper_batch(&mut self, gaps_next: &[WheelGaps], out: &mut [(f64, f64)]) {
-        self.mag_st.clear();
-        self.mag_h.clear();
-        for (c, &(hz, dy)) in self.ctl.iter().zip(gaps_next) {
+        let n = self.ctl.len();
+        self.mag_st.copy_from_slice(&self.mag_committed);
+        for ((c, &(hz, dy)), h) in self
+            .ctl
+            .iter()
+            .zip(gaps_next)
+            .zip(self.mag_h.chunks_exact_mut(3))
+        {
             let h0 = c.lev.params().h0;
             let d = dy / h0;
-            self.mag_st
-                .extend([c.lev_state.inner, c.pair.left.inner, c.pair.right.inner]);
-            self.mag_h.extend([hz / h0, 1.0 + d, 1.0 - d]);
+            h.copy_from_slice(&[hz / h0, 1.0 + d, 1.0 - d]);
         }
         update_batch(&self.mags, &mut self.mag_st, &self.mag_h, &mut self.mag_out);
-        for (i, c) in self.ctl.iter().enumerate() {
-            let (lev_out, left, right) = (
-                self.mag_out[3 * i],
-                self.mag_out[3 * i + 1],
-                self.mag_out[3 * i + 2],
-            );
-            let d = gaps_next[i].1 / c.lev.params().h0;
-            let (mut l, mut r) = (left, right);
+        let mut status = self.status;
+        for (((c, &(_, dy)), o), out) in self
+            .ctl
+            .iter()
+            .zip(&gaps_next[..n])
+            .zip(self.mag_out.chunks_exact(3))
+            .zip(&mut out[..n])
+        {
+            let (lev_out, mut l, mut r) = (o[0], o[1], o[2]);
+            let d = dy / c.lev.params().h0;
             let pair_out = guidance::update_with(self.geometry, &mut l, &mut r, d, |o, _| *o);
-            self.status = self.status.union(lev_out.status).union(pair_out.status);
+            status = status.union(lev_out.status).union(pair_out.status);
             let p0 = c.lev.params().p0;
-            out[i] = (lev_out.force * p0, pair_out.force_y * p0);
-            let mut st = c.lev_state;
-            st.inner = self.mag_st[3 * i];
-            let mut pair = c.pair;
-            pair.left.inner = self.mag_st[3 * i + 1];
-            pair.right.inner = self.mag_st[3 * i + 2];
-            self.trial.push((st, pair));
+            *out = (lev_out.force * p0, pair_out.force_y * p0);
         }
+        self.status = status;
+        self.pending = Pending::Batch;
     }
-}
 
-impl Magnets for CoreMagnets {
-    /// One update of every law from the committed state to the gaps at the end of the step
-    /// (the law interpolates from the gap its state last saw; `gaps_prev` is that gap).
-    fn forces(
-        &mut self,
-        _step: u32,
-        _t: f64,
-        _gaps_prev: &[WheelGaps],
-        gaps_next: &[WheelGaps],
-        out: &mut [(f64, f64)],
-    ) -> Result<()> {
-        self.trial.clear();
-        self.status = Status::default();
-        let finite = gaps_next.iter().all(|g| g.0.is_finite() && g.1.is_finite());
-        if finite && self.ctl.iter().all(|c| c.outer.is_none()) {
-            self.paper_batch(gaps_next, out);
-            return Ok(());
-        }
+    /// Every wheel by its own law (either law, any gap): the trial in `trial`
+    /// ([`Pending::General`]).
+    fn general(&mut self, gaps_next: &[WheelGaps], out: &mut [(f64, f64)]) {
         for (i, c) in self.ctl.iter().enumerate() {
             let (hz, dy) = gaps_next[i];
             let h0 = c.lev.params().h0;
@@ -174,21 +189,149 @@ impl Magnets for CoreMagnets {
             out[i] = (lev_out.force * p0, pair_out.force_y * p0);
             self.trial.push((st, pair));
         }
+        self.pending = Pending::General;
+    }
+}
+
+impl Magnets for CoreMagnets {
+    /// One update of every law from the committed state to the gaps at the end of the step
+    /// (the law interpolates from the gap its state last saw; `gaps_prev` is that gap).
+    fn forces(
+        &mut self,
+        _step: u32,
+        _t: f64,
+        _gaps_prev: &[WheelGaps],
+        gaps_next: &[WheelGaps],
+        out: &mut [(f64, f64)],
+    ) -> Result<()> {
+        self.trial.clear();
+        self.pending = Pending::None;
+        self.status = Status::default();
+        let finite = gaps_next.iter().all(|g| g.0.is_finite() && g.1.is_finite());
+        if finite && self.ctl.iter().all(|c| c.outer.is_none()) {
+            self.paper_batch(gaps_next, out);
+        } else {
+            self.general(gaps_next, out);
+        }
         Ok(())
     }
 
     fn commit(&mut self, _step: u32, _t: f64) -> Result<()> {
-        if self.trial.len() != self.ctl.len() {
-            return Err(Error::numerical("internal: commit without a step"));
+        match self.pending {
+            Pending::None => return Err(Error::numerical("internal: commit without a step")),
+            Pending::Batch => {
+                for (c, st) in self.ctl.iter_mut().zip(self.mag_st.chunks_exact(3)) {
+                    c.lev_state.inner = st[0];
+                    c.pair.left.inner = st[1];
+                    c.pair.right.inner = st[2];
+                }
+                self.mag_committed.copy_from_slice(&self.mag_st);
+            }
+            Pending::General => {
+                for (c, (st, pair)) in self.ctl.iter_mut().zip(self.trial.drain(..)) {
+                    c.lev_state = st;
+                    c.pair = pair;
+                }
+                self.gather_committed();
+            }
         }
-        for (c, (st, pair)) in self.ctl.iter_mut().zip(self.trial.drain(..)) {
-            c.lev_state = st;
-            c.pair = pair;
-        }
+        self.pending = Pending::None;
         Ok(())
     }
 
     fn status(&self) -> Status {
         self.status
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vehicle::{Fig1, VehicleModel};
+    use maglev_core::levitation::{Params, Scheme};
+
+    fn noise(s: &mut u64) -> f64 {
+        *s ^= *s << 13;
+        *s ^= *s >> 7;
+        *s ^= *s << 17;
+        (*s >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+
+    /// The paper batch (trial kept in `mag_st`, committed states cached in
+    /// `mag_committed`) gives the bits of the per-wheel path, forces and status, over 300
+    /// steps of three iterations on pseudo-random gaps, under both schemes; and a run that
+    /// switches path every step (as a non-finite gap would make it) gives the same bits too.
+    #[test]
+    fn batch_matches_the_per_wheel_path_across_commits() {
+        let car = VehicleModel::fig1(&Fig1::default(), 9.81).unwrap();
+        let train = Train::from_cars(vec![car]);
+        for scheme in [Scheme::Paper, Scheme::Accurate] {
+            let mut controller = Params::paper_wheel(1e-3);
+            controller.scheme = scheme;
+            let h0 = controller.h0;
+            let s = Settings {
+                speed: 100.0,
+                dt: 1e-3,
+                t_end: 0.3,
+                controller,
+                law: Law::Paper,
+                geometry: Geometry::Paper,
+                tolerance: 1e-9,
+                max_iterations: 10,
+                midspan_x: 0.0,
+                midspans: Vec::new(),
+            };
+            let nw = train.wheels.len();
+            let gaps0 = vec![(h0, 0.0); nw];
+            let mut batch = CoreMagnets::new(&train, &gaps0, &s).unwrap();
+            let mut general = CoreMagnets::new(&train, &gaps0, &s).unwrap();
+            let mut mixed = CoreMagnets::new(&train, &gaps0, &s).unwrap();
+            let (mut fb, mut fg, mut fm) = (
+                vec![(0.0, 0.0); nw],
+                vec![(0.0, 0.0); nw],
+                vec![(0.0, 0.0); nw],
+            );
+            let mut seed = 0x2545_F491_4F6C_DD1D_u64;
+            let mut gaps = gaps0.clone();
+            let mut moved = false;
+            for step in 1..=300u32 {
+                for _ in 0..3 {
+                    for g in &mut gaps {
+                        *g = (
+                            h0 * (1.0 + 0.2 * noise(&mut seed)),
+                            0.3 * h0 * noise(&mut seed),
+                        );
+                    }
+                    batch.forces(step, 0.0, &gaps0, &gaps, &mut fb).unwrap();
+                    assert!(batch.pending == Pending::Batch);
+                    general.trial.clear();
+                    general.status = Status::default();
+                    general.general(&gaps, &mut fg);
+                    if step % 2 == 0 {
+                        mixed.forces(step, 0.0, &gaps0, &gaps, &mut fm).unwrap();
+                    } else {
+                        mixed.trial.clear();
+                        mixed.status = Status::default();
+                        mixed.general(&gaps, &mut fm);
+                    }
+                    for i in 0..nw {
+                        for (x, y) in [(fb[i], fg[i]), (fb[i], fm[i])] {
+                            assert_eq!(x.0.to_bits(), y.0.to_bits(), "step {step} wheel {i}");
+                            assert_eq!(x.1.to_bits(), y.1.to_bits(), "step {step} wheel {i}");
+                        }
+                    }
+                    assert_eq!(batch.status(), general.status());
+                    assert_eq!(batch.status(), mixed.status());
+                    moved |= fb
+                        .iter()
+                        .any(|f| (f.0 - train.p0[0]).abs() > 1.0 && f.1 != 0.0);
+                }
+                for m in [&mut batch, &mut general, &mut mixed] {
+                    m.commit(step, 0.0).unwrap();
+                }
+                assert!(batch.commit(step, 0.0).is_err(), "a second commit");
+            }
+            assert!(moved, "the forces never left their static values");
+        }
     }
 }

@@ -73,15 +73,15 @@ impl TrainState {
     /// docs/cars.md "Wheel–rail contact").
     pub fn solve(&mut self, train: &Train, forces: &[(f64, f64)], contact: &[f64]) {
         for c in &mut self.cars {
-            c.f.fill(0.0);
+            c.f.as_mut_slice().fill(0.0);
         }
         for (w, &(fz, fy)) in train.wheels.iter().zip(forces) {
-            let f = &mut self.cars[w.car].f;
+            let f = self.cars[w.car].f.as_mut_slice();
             f[w.dof_z] = fz;
             f[w.dof_y] = fy;
         }
         for (k, &fz) in train.contacts.iter().zip(contact) {
-            self.cars[k.car].f[k.dof_z] += fz;
+            self.cars[k.car].f.as_mut_slice()[k.dof_z] += fz;
         }
         if self.parallel {
             self.cars.par_iter_mut().for_each(|c| c.newmark.solve(&c.f));
