@@ -193,49 +193,53 @@ impl ComponentBand {
                     m += 1;
                 }
             }
-            let lanes = &lanes[..m];
-            let len = lanes.iter().map(|&(s, e)| e - s).max().unwrap_or(0);
+            let len = lanes[..m].iter().map(|&(s, e)| e - s).max().unwrap_or(0);
+            // Lanes past their component's end (or unused) skip; the loop over the lanes is
+            // unrolled, so every window stays in registers.
             // Forward L y = x: y_p = (x_p − Σ_k L[p, p−B+k] y_{p−B+k}) / L[p, p].
             let mut win = [[0.0; B]; LANES];
             for r in 0..len {
-                for (&(start, end), win) in lanes.iter().zip(&mut win) {
+                for l in 0..LANES {
+                    let (start, end) = lanes[l];
                     let p = start + r;
-                    if p >= end {
+                    if l >= m || p >= end {
                         continue;
                     }
                     let row = &self.fwd[p * (B + 1)..(p + 1) * (B + 1)];
                     let i = self.orig[p];
                     let mut acc = 0.0;
                     for k in 0..B {
-                        acc += row[k] * win[k];
+                        acc += row[k] * win[l][k];
                     }
                     let y = (x[i] - acc) * row[B];
                     x[i] = y;
                     for k in 1..B {
-                        win[k - 1] = win[k];
+                        win[l][k - 1] = win[l][k];
                     }
-                    win[B - 1] = y;
+                    win[l][B - 1] = y;
                 }
             }
             // Back Lᵀ x = y: x_p = (y_p − Σ_k L[p+1+k, p] x_{p+1+k}) / L[p, p].
             let mut win = [[0.0; B]; LANES];
             for r in 0..len {
-                for (&(start, end), win) in lanes.iter().zip(&mut win) {
-                    let Some(p) = (end - 1).checked_sub(r).filter(|&p| p >= start) else {
+                for l in 0..LANES {
+                    let (start, end) = lanes[l];
+                    if l >= m || r >= end - start {
                         continue;
-                    };
+                    }
+                    let p = end - 1 - r;
                     let row = &self.bwd[p * (B + 1)..(p + 1) * (B + 1)];
                     let i = self.orig[p];
                     let mut acc = 0.0;
                     for k in 0..B {
-                        acc += row[k] * win[k];
+                        acc += row[k] * win[l][k];
                     }
                     let v = (x[i] - acc) * row[B];
                     x[i] = v;
                     for k in (1..B).rev() {
-                        win[k] = win[k - 1];
+                        win[l][k] = win[l][k - 1];
                     }
-                    win[0] = v;
+                    win[l][0] = v;
                 }
             }
         }
