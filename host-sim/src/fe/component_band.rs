@@ -38,10 +38,11 @@ pub struct ComponentBand {
     orig: Vec<usize>,
     /// Slot ranges of the components, in order (together, `0..n`).
     components: Vec<(usize, usize)>,
-    /// Per slot p: `L[p, p−B..p]` (zero before the component's start) then `1/L[p, p]`.
-    fwd: Vec<f64>,
-    /// Per slot p: `L[p+1, p], …, L[p+B, p]` (zero past the component's end) then
+    /// Per slot p: `L[p, p−B..p] / L[p, p]` (zero before the component's start) then
     /// `1/L[p, p]`.
+    fwd: Vec<f64>,
+    /// Per slot p: `L[p+1, p], …, L[p+B, p]`, each over `L[p, p]` (zero past the
+    /// component's end), then `1/L[p, p]`.
     bwd: Vec<f64>,
 }
 
@@ -133,10 +134,14 @@ impl ComponentBand {
             packed.push((q, q + end - start));
             for p in start..end {
                 let (f, g) = (&mut fwd[q * w..(q + 1) * w], &mut bwd[q * w..(q + 1) * w]);
-                f.copy_from_slice(&rows[p * w..(p + 1) * w]);
+                let dinv = rows[p * w + b];
+                for t in 0..b {
+                    f[t] = rows[p * w + t] * dinv;
+                }
+                f[b] = dinv;
                 for k in 1..=b {
                     // L[p + k, p] sits in row p + k at position B − k (zero in padding).
-                    g[k - 1] = rows[(p + k) * w + (b - k)];
+                    g[k - 1] = rows[(p + k) * w + (b - k)] * rows[p * w + b];
                 }
                 g[b] = rows[p * w + b];
                 q += 1;
@@ -196,7 +201,9 @@ impl ComponentBand {
             let len = lanes[..m].iter().map(|&(s, e)| e - s).max().unwrap_or(0);
             // Lanes past their component's end (or unused) skip; the loop over the lanes is
             // unrolled, so every window stays in registers.
-            // Forward L y = x: y_p = (x_p − Σ_k L[p, p−B+k] y_{p−B+k}) / L[p, p].
+            // Forward L y = x: y_p = x_p / L[p, p] − Σ_k (L[p, p−B+k] / L[p, p]) y_{p−B+k},
+            // the newest term last, so the chain from one row to the next is one multiply
+            // and one subtraction.
             let mut win = [[0.0; B]; LANES];
             for r in 0..len {
                 for l in 0..LANES {
@@ -207,11 +214,10 @@ impl ComponentBand {
                     }
                     let row = &self.fwd[p * (B + 1)..(p + 1) * (B + 1)];
                     let i = self.orig[p];
-                    let mut acc = 0.0;
+                    let mut y = x[i] * row[B];
                     for k in 0..B {
-                        acc += row[k] * win[l][k];
+                        y -= row[k] * win[l][k];
                     }
-                    let y = (x[i] - acc) * row[B];
                     x[i] = y;
                     for k in 1..B {
                         win[l][k - 1] = win[l][k];
@@ -219,7 +225,8 @@ impl ComponentBand {
                     win[l][B - 1] = y;
                 }
             }
-            // Back Lᵀ x = y: x_p = (y_p − Σ_k L[p+1+k, p] x_{p+1+k}) / L[p, p].
+            // Back Lᵀ x = y: x_p = y_p / L[p, p] − Σ_k (L[p+1+k, p] / L[p, p]) x_{p+1+k}, the
+            // newest term last.
             let mut win = [[0.0; B]; LANES];
             for r in 0..len {
                 for l in 0..LANES {
@@ -230,11 +237,10 @@ impl ComponentBand {
                     let p = end - 1 - r;
                     let row = &self.bwd[p * (B + 1)..(p + 1) * (B + 1)];
                     let i = self.orig[p];
-                    let mut acc = 0.0;
-                    for k in 0..B {
-                        acc += row[k] * win[l][k];
+                    let mut v = x[i] * row[B];
+                    for k in (0..B).rev() {
+                        v -= row[k] * win[l][k];
                     }
-                    let v = (x[i] - acc) * row[B];
                     x[i] = v;
                     for k in (1..B).rev() {
                         win[l][k] = win[l][k - 1];
