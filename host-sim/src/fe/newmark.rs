@@ -23,6 +23,9 @@
 use super::banded::{SymBanded, SymSparse, ToDense};
 use super::cholesky::{Scratch, SparseCholesky};
 use super::component_band::ComponentBand;
+
+/// Whether span solves use [`ComponentBand`] (off: see `SpanNewmark::with_damping_matrix`).
+const BAND_IN_TIME_LOOP: bool = false;
 use crate::Error;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -300,7 +303,11 @@ impl SpanNewmark {
         let band = ComponentBand::new(&keff);
         let keff = SparseCholesky::new(&keff)
             .map_err(|e| Error::numerical(format!("effective stiffness: {e}")))?;
-        let band = band.filter(|b| b.stored() <= 3 * keff.factor_nonzeros());
+        // Off in the time loop until tests/fe_solver.rs's dense-reference passage holds with
+        // it (its wheel-1 gap differed by 1.36e-12 of the peak against a 1e-12 criterion).
+        let band = band
+            .filter(|b| b.stored() <= 3 * keff.factor_nonzeros())
+            .filter(|_| BAND_IN_TIME_LOOP);
         Ok(SpanNewmark {
             dt,
             m: SymSparse::new(m),
