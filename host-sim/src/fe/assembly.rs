@@ -169,15 +169,8 @@ impl SpanModel {
 
     /// Element `e`'s 12 DOFs gathered from a free-DOF vector (supported DOFs are zero).
     pub fn gather(&self, d: &DVector<f64>, e: usize) -> ElementVector<f64> {
-        let base = e * DOFS_PER_NODE;
-        let (idx, d) = (&self.free_index[base..base + ELEMENT_DOFS], d.as_slice());
-        let mut out = ElementVector::zeros();
-        for (o, i) in out.iter_mut().zip(idx) {
-            if let Some(f) = *i {
-                *o = d[f];
-            }
-        }
-        out
+        let d = d.as_slice();
+        self.gather_with(e, |f| d[f])
     }
 
     /// The wheel shape at span-local `x` with offset `(ey, ez)`: element index and rows.
@@ -199,27 +192,80 @@ impl SpanModel {
         fz: f64,
         f: &mut DVector<f64>,
     ) {
-        let Some((e, shape)) = self.shape_at(x, ey, ez) else {
-            return;
-        };
+        let _ = self.add_point_force_at(x, ey, ez, fy, fz, f.as_mut_slice(), |_| {});
+    }
+
+    /// As [`Self::add_point_force`], calling `on_dof` with each free DOF it adds to; the
+    /// loaded element, `None` off the span.
+    #[allow(clippy::too_many_arguments)]
+    pub fn add_point_force_at(
+        &self,
+        x: f64,
+        ey: f64,
+        ez: f64,
+        fy: f64,
+        fz: f64,
+        f: &mut [f64],
+        on_dof: impl FnMut(usize),
+    ) -> Option<usize> {
+        let (e, shape) = self.shape_at(x, ey, ez)?;
+        self.add_shaped_force(e, &shape, fy, fz, f, on_dof);
+        Some(e)
+    }
+
+    /// As [`Self::add_point_force_at`] for a point already located: element `e`, `shape`
+    /// from [`Self::shape_at`].
+    pub fn add_shaped_force(
+        &self,
+        e: usize,
+        shape: &WheelShape<f64>,
+        fy: f64,
+        fz: f64,
+        f: &mut [f64],
+        mut on_dof: impl FnMut(usize),
+    ) {
         let fe = shape.nodal_forces(fy, fz);
         let base = e * DOFS_PER_NODE;
-        let (idx, f) = (
-            &self.free_index[base..base + ELEMENT_DOFS],
-            f.as_mut_slice(),
-        );
+        let idx = &self.free_index[base..base + ELEMENT_DOFS];
         for (i, fe) in idx.iter().zip(fe.iter()) {
             if let Some(fi) = *i {
                 f[fi] += fe;
+                on_dof(fi);
             }
         }
+    }
+
+    /// Element `e`'s 12 DOFs with `value(free index)` (supported DOFs are zero).
+    pub fn gather_with(&self, e: usize, mut value: impl FnMut(usize) -> f64) -> ElementVector<f64> {
+        let base = e * DOFS_PER_NODE;
+        let mut out = ElementVector::zeros();
+        for (o, i) in out
+            .iter_mut()
+            .zip(&self.free_index[base..base + ELEMENT_DOFS])
+        {
+            if let Some(f) = *i {
+                *o = value(f);
+            }
+        }
+        out
     }
 
     /// Displacement of a point at span-local `x`, offset `(ey, ez)`, for free DOFs `d`
     /// (Eq. 16 with the rigid-link rotation share). `None` off the span.
     pub fn motion(&self, d: &DVector<f64>, x: f64, ey: f64, ez: f64) -> Option<PointMotion> {
+        self.motion_with(x, ey, ez, |e| self.gather(d, e))
+    }
+
+    /// As [`Self::motion`], with element `e`'s DOFs from `element(e)`.
+    pub fn motion_with(
+        &self,
+        x: f64,
+        ey: f64,
+        ez: f64,
+        element: impl FnOnce(usize) -> ElementVector<f64>,
+    ) -> Option<PointMotion> {
         let (e, s) = self.shape_at(x, ey, ez)?;
-        let de = self.gather(d, e);
+        let de = element(e);
         Some(PointMotion {
             y: s.y_at(&de),
             z: s.z_at(&de),
@@ -228,8 +274,17 @@ impl SpanModel {
 
     /// Axis displacement at span-local `x` for free DOFs `d`. `None` off the span.
     pub fn section(&self, d: &DVector<f64>, x: f64) -> Option<SectionMotion> {
+        self.section_with(x, |e| self.gather(d, e))
+    }
+
+    /// As [`Self::section`], with element `e`'s DOFs from `element(e)`.
+    pub fn section_with(
+        &self,
+        x: f64,
+        element: impl FnOnce(usize) -> ElementVector<f64>,
+    ) -> Option<SectionMotion> {
         let (e, s) = self.shape_at(x, 0.0, 0.0)?;
-        let de = self.gather(d, e);
+        let de = element(e);
         Some(SectionMotion {
             y: s.y_at(&de),
             z: s.z_at(&de),

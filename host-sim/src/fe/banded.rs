@@ -114,6 +114,38 @@ impl SymBanded {
         })
     }
 
+    /// The decoupled components of the matrix graph (union-find over the stored non-zeros):
+    /// each component's members in ascending order, components in order of their first
+    /// member. A straight span's axial, torsion and two bending families come out as four.
+    pub fn components(&self) -> Vec<Vec<usize>> {
+        let n = self.n;
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn root(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        }
+        for (i, j, _) in self.lower_entries() {
+            let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+            if ri != rj {
+                parent[ri.max(rj)] = ri.min(rj);
+            }
+        }
+        let mut members: Vec<Vec<usize>> = Vec::new();
+        let mut index_of_root = vec![usize::MAX; n];
+        for i in 0..n {
+            let r = root(&mut parent, i);
+            if index_of_root[r] == usize::MAX {
+                index_of_root[r] = members.len();
+                members.push(Vec::new());
+            }
+            members[index_of_root[r]].push(i);
+        }
+        members
+    }
+
     /// A dense copy (for small systems and checks only: O(n²) memory).
     pub fn to_dense(&self) -> DMatrix<f64> {
         DMatrix::from_fn(self.n, self.n, |i, j| self.get(i, j))

@@ -9,16 +9,15 @@
 //!
 //! The step (docs/model.md §7, Eq. 19) is linear in the wheel loads: d₁ = Keff⁻¹ (r + F) with r
 //! the load-free right-hand side from the committed state. Each span therefore computes r
-//! once per step (on the first [`Guideway::solve_step`] after a commit), and each
-//! Newton–Raphson iteration costs one sparse forward/back substitution on the *loaded* spans
-//! only (an unloaded span's response, Keff⁻¹ r, is solved once per step and kept). Velocity
-//! and acceleration are completed once, on commit. Queries ([`Guideway::motion_at`],
-//! [`Guideway::section_at`]) read 12 DOFs of one element. Nothing in the time loop allocates.
-//!
-//! Why not a flexibility matrix at the wheels: it needs one solve per wheel and direction
-//! per step (the wheels move), 2·m solves for m wheels on a span, against one solve per
-//! iteration here; with 2–4 iterations per step the direct solve is cheaper for any m ≥ 1
-//! (the 12-car train has ≈ 19 wheels per span).
+//! once per step (on the first [`Guideway::solve_step`] after a commit). On a span small
+//! enough to hold Keff⁻¹ densely ([`Flexibility`], the §4.2 and §5 spans) the free response
+//! Keff⁻¹ r is solved once per step too, and a Newton–Raphson iteration solves nothing: a
+//! query reads d_free + Keff⁻¹ F on the 12 DOFs of its element only, and the whole d₁ is
+//! formed on commit. Where the loads cover more than half of a span's DOFs (a train's
+//! axles on every element), and on spans too large for the dense columns, each iteration
+//! instead costs one sparse forward/back substitution of r + F on the *loaded* spans (an
+//! unloaded span's response is solved once per step and kept). Velocity and acceleration are
+//! completed once, on commit. Nothing in the time loop allocates.
 //!
 //! Wheel loads and guideway motion use the paper's cubic Hermite interpolation (Eq. 15, 16,
 //! via [`maglev_core::gap::WheelShape`]), not the Timoshenko element's own shear-dependent
@@ -29,9 +28,11 @@
 
 use super::assembly::SpanModel;
 use super::cholesky::{Scratch, SparseCholesky};
+use super::flexibility::{Flexibility, LoadSupport};
 use super::newmark::{Rayleigh, SpanNewmark, State};
 use crate::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
 use crate::Error;
+use maglev_core::gap::{ElementVector, WheelShape};
 use nalgebra::DVector;
 use rayon::prelude::*;
 
@@ -41,6 +42,8 @@ struct SpanSystem {
     model: SpanModel,
     newmark: SpanNewmark,
     static_factor: SparseCholesky,
+    /// Keff⁻¹ by columns, for spans of at most [`super::flexibility::MAX_DOFS`] DOFs.
+    flex: Option<Flexibility>,
 }
 
 /// Per-span state and preallocated work space.
@@ -66,6 +69,16 @@ struct Span {
     free_valid: bool,
     /// `trial.d` is the unloaded response of the current step.
     trial_is_free: bool,
+    /// The step's free response Keff⁻¹ r (valid when `free_solved`; flexibility spans).
+    free: DVector<f64>,
+    free_solved: bool,
+    /// The loaded DOFs of the current iteration (flexibility spans).
+    support: Option<LoadSupport>,
+    /// The trial displacement is `free + Z·load`, not yet formed in `trial.d`.
+    lazy: bool,
+    /// The loaded elements of the current iteration and, when `lazy`, their trial
+    /// displacement (the queries of a coupling loop fall on them; flexibility spans).
+    hot: Vec<(usize, ElementVector<f64>)>,
 }
 
 impl Span {
@@ -79,6 +92,7 @@ impl Span {
             return;
         }
         self.trial_at_rest = false;
+        self.lazy = false;
         if !self.free_valid {
             if self.committed_at_rest {
                 self.rhs_free.fill(0.0);
@@ -88,6 +102,26 @@ impl Span {
             }
             self.free_valid = true;
             self.trial_is_free = false;
+        }
+        if let (Some(flex), Some(support)) = (&sys.flex, &self.support) {
+            // The columns pay while the loads cover at most half the DOFs (module docs).
+            if 2 * support.len() <= flex.nrows() {
+                if !self.free_solved {
+                    self.free.copy_from(&self.rhs_free);
+                    sys.newmark
+                        .solve_in_place(&mut self.free, &mut self.scratch);
+                    self.free_solved = true;
+                }
+                let (free, load) = (self.free.as_slice(), self.load.as_slice());
+                for (e, de) in &mut self.hot {
+                    *de = sys
+                        .model
+                        .gather_with(*e, |f| flex.response_at(support, free, load, f));
+                }
+                self.lazy = true;
+                self.trial_is_free = false;
+                return;
+            }
         }
         if self.loaded {
             // d = r + F (nalgebra's `copy_from` and `+=` as slice loops: the same additions).
@@ -108,15 +142,65 @@ impl Span {
         }
     }
 
+    /// Form `trial.d` if it is held as free response plus flexibility.
+    fn materialise(&mut self, sys: &SpanSystem) {
+        if let (true, Some(flex), Some(support)) = (self.lazy, &sys.flex, &mut self.support) {
+            flex.complete(
+                support,
+                self.free.as_slice(),
+                self.load.as_slice(),
+                self.trial.d.as_mut_slice(),
+            );
+            self.lazy = false;
+        }
+    }
+
+    /// Trial displacement on element `e`'s 12 DOFs.
+    fn element(&self, sys: &SpanSystem, e: usize) -> ElementVector<f64> {
+        match (self.lazy, &sys.flex, &self.support) {
+            (true, Some(flex), Some(support)) => {
+                if let Some((_, de)) = self.hot.iter().find(|h| h.0 == e) {
+                    return *de;
+                }
+                let (free, load) = (self.free.as_slice(), self.load.as_slice());
+                sys.model
+                    .gather_with(e, |f| flex.response_at(support, free, load, f))
+            }
+            _ => sys.model.gather(&self.trial.d, e),
+        }
+    }
+
     /// Accept the trial displacement; complete velocity and acceleration.
     fn commit(&mut self, sys: &SpanSystem) {
+        self.materialise(sys);
         // A trial at rest implies a committed state at rest (see `advance`): nothing to do.
         if !self.trial_at_rest {
             sys.newmark.finish(&mut self.committed, &mut self.trial);
         }
         self.committed_at_rest = self.trial_at_rest;
         self.free_valid = false;
+        self.free_solved = false;
         self.trial_is_free = false;
+    }
+}
+
+/// Loads whose places are remembered from one `solve_step` to the next (the coupling loop's
+/// points do not move within a step); more loads are located afresh each time.
+const PLACES: usize = 64;
+
+/// Where a load or query point sits: span, element and the element's rows there (Eq. 15,
+/// 16), `None` off the bridge.
+#[derive(Clone, Copy, Debug)]
+struct Place {
+    x: f64,
+    ey: f64,
+    ez: f64,
+    at: Option<(usize, usize, WheelShape<f64>)>,
+}
+
+impl Place {
+    fn is(&self, x: f64, ey: f64, ez: f64) -> bool {
+        self.x == x && self.ey == ey && self.ez == ez
     }
 }
 
@@ -132,6 +216,8 @@ pub struct FeGuideway {
     parallel: bool,
     /// A solve since the last commit.
     solved: bool,
+    /// The places of the last `solve_step`'s loads (at most [`PLACES`]; capacity reserved).
+    places: Vec<Place>,
 }
 
 impl FeGuideway {
@@ -163,10 +249,15 @@ impl FeGuideway {
                     let model = SpanModel::new(&bridge.section, length, elements_per_span)?;
                     let newmark = SpanNewmark::new(&model.k, &model.m, damping, dt)?;
                     let static_factor = model.stiffness_factor()?;
+                    let mut scratch = newmark.factor().scratch();
+                    let flex = Flexibility::new(model.free_dofs(), newmark.components(), |x| {
+                        newmark.solve_in_place_slice(x, &mut scratch)
+                    });
                     systems.push(SpanSystem {
                         model,
                         newmark,
                         static_factor,
+                        flex,
                     });
                     systems.len() - 1
                 }
@@ -187,6 +278,15 @@ impl FeGuideway {
                 loaded: false,
                 free_valid: false,
                 trial_is_free: false,
+                free: DVector::zeros(n),
+                free_solved: false,
+                support: sys.flex.as_ref().map(LoadSupport::new),
+                lazy: false,
+                hot: Vec::with_capacity(if sys.flex.is_some() {
+                    elements_per_span
+                } else {
+                    0
+                }),
             });
             start += length;
         }
@@ -198,6 +298,7 @@ impl FeGuideway {
             loaded,
             parallel: false,
             solved: false,
+            places: Vec::with_capacity(PLACES),
         })
     }
 
@@ -219,9 +320,10 @@ impl FeGuideway {
                 2 * band(s.model.k.bandwidth())
                     + s.newmark.storage_words()
                     + s.static_factor.factor_nonzeros()
+                    + s.flex.as_ref().map_or(0, Flexibility::stored)
             })
             .sum();
-        let spans: usize = self.spans.iter().map(|s| 9 * s.load.len()).sum();
+        let spans: usize = self.spans.iter().map(|s| 10 * s.load.len()).sum();
         systems + spans
     }
 
@@ -241,10 +343,13 @@ impl FeGuideway {
     }
 
     /// Trial state of span `i` (free DOFs; see [`SpanModel`]). Its displacement is current
-    /// after every `solve_step`; its velocity and acceleration are completed on `commit`
-    /// (after a commit the trial equals the committed state).
-    pub fn trial_state(&self, i: usize) -> &State {
-        &self.spans[i].trial
+    /// after every `solve_step` (formed here if the span holds it as free response plus
+    /// flexibility); its velocity and acceleration are completed on `commit` (after a commit
+    /// the trial equals the committed state).
+    pub fn trial_state(&mut self, i: usize) -> &State {
+        let span = &mut self.spans[i];
+        span.materialise(&self.systems[span.system]);
+        &span.trial
     }
 
     /// The span containing global `x` and the span-local coordinate, `None` off the bridge.
@@ -266,30 +371,86 @@ impl FeGuideway {
         Some((i, local.min(length)))
     }
 
+    /// Span, element and rows at global `x`, offset `(ey, ez)`; `None` off the bridge.
+    fn place(&self, x: f64, ey: f64, ez: f64) -> Option<(usize, usize, WheelShape<f64>)> {
+        let (i, local) = self.find(x)?;
+        let (e, shape) = self.span_model(i).shape_at(local, ey, ez)?;
+        Some((i, e, shape))
+    }
+
     /// Loads on the free DOFs of every span (Eq. 15); loads off the bridge are ignored.
-    /// Clears only the spans loaded in the previous iteration: O(loads + loaded DOFs).
+    /// Clears only the spans loaded in the previous iteration: O(loads + loaded DOFs). When
+    /// the loads sit where they sat in the previous call (the iterations of one step), their
+    /// places, the loaded spans and the loaded DOFs are kept and only the values change.
     fn distribute(&mut self, loads: &[PointLoad]) {
+        let same = loads.len() == self.places.len()
+            && loads
+                .iter()
+                .zip(&self.places)
+                .all(|(l, p)| p.is(l.x, l.ey, l.ez));
+        if !same {
+            self.places.clear();
+            if loads.len() <= PLACES {
+                for l in loads {
+                    let at = self.place(l.x, l.ey, l.ez);
+                    self.places.push(Place {
+                        x: l.x,
+                        ey: l.ey,
+                        ez: l.ez,
+                        at,
+                    });
+                }
+            }
+        }
         for &i in &self.loaded {
             let s = &mut self.spans[i];
-            s.load.as_mut_slice().fill(0.0);
-            s.loaded = false;
-        }
-        self.loaded.clear();
-        for p in loads {
-            if let Some((i, local)) = self.find(p.x) {
-                let span = &mut self.spans[i];
-                self.systems[span.system].model.add_point_force(
-                    local,
-                    p.ey,
-                    p.ez,
-                    p.fy,
-                    p.fz,
-                    &mut span.load,
-                );
-                if !span.loaded {
-                    span.loaded = true;
-                    self.loaded.push(i);
+            match &mut s.support {
+                Some(support) => {
+                    support.zero(s.load.as_mut_slice());
+                    if !same {
+                        support.clear();
+                    }
                 }
+                None => s.load.as_mut_slice().fill(0.0),
+            }
+            if !same {
+                s.hot.clear();
+                s.loaded = false;
+            }
+        }
+        if !same {
+            self.loaded.clear();
+        }
+        for (k, p) in loads.iter().enumerate() {
+            let fresh;
+            let at = match self.places.get(k) {
+                Some(place) => &place.at,
+                None => {
+                    fresh = self.place(p.x, p.ey, p.ez);
+                    &fresh
+                }
+            };
+            let Some((i, e, shape)) = at else {
+                continue;
+            };
+            let (i, e) = (*i, *e);
+            let span = &mut self.spans[i];
+            let sys = &self.systems[span.system];
+            let (load, support) = (span.load.as_mut_slice(), &mut span.support);
+            sys.model.add_shaped_force(e, shape, p.fy, p.fz, load, |j| {
+                if let (false, Some(flex), Some(support)) = (same, &sys.flex, support.as_mut()) {
+                    support.add(flex, j);
+                }
+            });
+            if same {
+                continue;
+            }
+            if span.support.is_some() && !span.hot.iter().any(|h| h.0 == e) {
+                span.hot.push((e, ElementVector::zeros()));
+            }
+            if !span.loaded {
+                span.loaded = true;
+                self.loaded.push(i);
             }
         }
     }
@@ -359,17 +520,29 @@ impl Guideway for FeGuideway {
     }
 
     fn motion_at(&self, x: f64, ey: f64, ez: f64) -> PointMotion {
-        self.find(x)
-            .and_then(|(i, local)| {
-                self.span_model(i)
-                    .motion(&self.spans[i].trial.d, local, ey, ez)
-            })
-            .unwrap_or_default()
+        let motion = |&(i, e, ref shape): &(usize, usize, WheelShape<f64>)| {
+            let span = &self.spans[i];
+            let de = span.element(&self.systems[span.system], e);
+            PointMotion {
+                y: shape.y_at(&de),
+                z: shape.z_at(&de),
+            }
+        };
+        // A load's point is found among the remembered places (the gaps of the coupling loop).
+        match self.places.iter().find(|p| p.is(x, ey, ez)) {
+            Some(p) => p.at.as_ref().map(motion),
+            None => self.place(x, ey, ez).as_ref().map(motion),
+        }
+        .unwrap_or_default()
     }
 
     fn section_at(&self, x: f64) -> SectionMotion {
         self.find(x)
-            .and_then(|(i, local)| self.span_model(i).section(&self.spans[i].trial.d, local))
+            .and_then(|(i, local)| {
+                let span = &self.spans[i];
+                let sys = &self.systems[span.system];
+                sys.model.section_with(local, |e| span.element(sys, e))
+            })
             .unwrap_or_default()
     }
 

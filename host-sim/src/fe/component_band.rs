@@ -51,32 +51,7 @@ impl ComponentBand {
     /// is not positive definite.
     pub fn new(a: &SymBanded) -> Option<Self> {
         let n = a.nrows();
-        // Components by union-find over the stored entries.
-        let mut parent: Vec<usize> = (0..n).collect();
-        fn root(parent: &mut [usize], mut i: usize) -> usize {
-            while parent[i] != i {
-                parent[i] = parent[parent[i]];
-                i = parent[i];
-            }
-            i
-        }
-        for (i, j, _) in a.lower_entries() {
-            let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
-            if ri != rj {
-                parent[ri.max(rj)] = ri.min(rj);
-            }
-        }
-        // Each component's members in original order; components in order of first member.
-        let mut members: Vec<Vec<usize>> = Vec::new();
-        let mut index_of_root = vec![usize::MAX; n];
-        for i in 0..n {
-            let r = root(&mut parent, i);
-            if index_of_root[r] == usize::MAX {
-                index_of_root[r] = members.len();
-                members.push(Vec::new());
-            }
-            members[index_of_root[r]].push(i);
-        }
+        let members = a.components();
         let mut local = vec![0; n];
         for m in &members {
             for (k, &i) in m.iter().enumerate() {

@@ -9,6 +9,7 @@
 //!   families, for the time loop's solves;
 //! - [`assembly`]: one span, supports, load distribution and interpolation;
 //! - [`newmark`]: average-acceleration Newmark with a once-factorised effective stiffness;
+//! - [`flexibility`]: a small span's Keff⁻¹ by columns, so iterations query without solving;
 //! - [`bridge`]: [`FeGuideway`], a whole [`crate::guideway::Bridge`] behind the
 //!   [`crate::guideway::Guideway`] interface;
 //! - [`modes`]: natural frequencies and mode kinds;
@@ -40,6 +41,7 @@ pub mod bridge;
 pub mod cholesky;
 pub mod component_band;
 pub mod element;
+pub mod flexibility;
 pub mod modes;
 pub mod newmark;
 pub mod soil;

@@ -24,8 +24,6 @@ use super::banded::{SymBanded, SymSparse, ToDense};
 use super::cholesky::{Scratch, SparseCholesky};
 use super::component_band::ComponentBand;
 
-/// Whether span solves use [`ComponentBand`] (off: see `SpanNewmark::with_damping_matrix`).
-const BAND_IN_TIME_LOOP: bool = false;
 use crate::Error;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -175,6 +173,8 @@ pub struct SpanNewmark {
     /// The banded factor of the decoupled components, used for every solve when it exists
     /// and is not larger than three times faer's (module docs).
     band: Option<ComponentBand>,
+    /// Keff's decoupled components.
+    components: Vec<Vec<usize>>,
 }
 
 /// A simplicial LLᵀ factor `P A Pᵀ = L Lᵀ` of faer's, for its solve in faer's order of
@@ -299,15 +299,12 @@ impl SpanNewmark {
         if let Some(c) = &c {
             keff = keff.combine(1.0, c, 2.0 / dt);
         }
+        let components = keff.components();
         let fast = Simplicial::new(&keff);
         let band = ComponentBand::new(&keff);
         let keff = SparseCholesky::new(&keff)
             .map_err(|e| Error::numerical(format!("effective stiffness: {e}")))?;
-        // Off in the time loop until tests/fe_solver.rs's dense-reference passage holds with
-        // it (its wheel-1 gap differed by 1.36e-12 of the peak against a 1e-12 criterion).
-        let band = band
-            .filter(|b| b.stored() <= 3 * keff.factor_nonzeros())
-            .filter(|_| BAND_IN_TIME_LOOP);
+        let band = band.filter(|b| b.stored() <= 3 * keff.factor_nonzeros());
         Ok(SpanNewmark {
             dt,
             m: SymSparse::new(m),
@@ -315,6 +312,7 @@ impl SpanNewmark {
             keff,
             fast,
             band,
+            components,
         })
     }
 
@@ -366,10 +364,20 @@ impl SpanNewmark {
 
     /// x ← Keff⁻¹ x through [`Simplicial`] or faer (the path without [`ComponentBand`]).
     pub fn solve_in_place_sparse(&self, x: &mut DVector<f64>, scratch: &mut Scratch) {
+        self.solve_in_place_slice(x.as_mut_slice(), scratch);
+    }
+
+    /// As [`Self::solve_in_place_sparse`], on a slice.
+    pub fn solve_in_place_slice(&self, x: &mut [f64], scratch: &mut Scratch) {
         match &self.fast {
-            Some(f) => f.solve_in_place(x.as_mut_slice()),
-            None => self.keff.solve_in_place(x.as_mut_slice(), scratch),
+            Some(f) => f.solve_in_place(x),
+            None => self.keff.solve_in_place(x, scratch),
         }
+    }
+
+    /// The decoupled components of Keff ([`SymBanded::components`]).
+    pub fn components(&self) -> &[Vec<usize>] {
+        &self.components
     }
 
     /// The solve runs through a [`ComponentBand`] factor.

@@ -1,0 +1,277 @@
+//! [`Flexibility`]: a small span's Keff⁻¹ held densely, so that a Newton–Raphson iteration
+//! answers the coupling loop's queries without solving the span (issue #9: "keep the
+//! iterations off the full solve").
+//!
+//! Why: a step's displacement is linear in the wheel loads, d₁ = Keff⁻¹ r + Keff⁻¹ F (Eq. 19,
+//! r the load-free right-hand side), and F lives on the DOFs of the few loaded elements (Eq.
+//! 15). With d_free = Keff⁻¹ r solved once per step, a query at an element (Eq. 16) needs d₁
+//! only on that element's 12 DOFs: d_free there plus Σ_j Z_ij F_j over the loaded DOFs j of
+//! the same decoupled component (a straight span's axial, torsion and two bending families
+//! do not couple, so Z is zero across them). The whole d₁ is formed once, on commit, as
+//! d_free plus one column of Z per loaded DOF. An iteration then costs a few hundred
+//! independent multiply-adds instead of a sparse substitution, which is a chain of dependent
+//! ones (docs/performance.md).
+//!
+//! The columns are computed once per distinct span by solving Keff z_j = e_j with the span's
+//! own factor; off-component entries come out exactly zero (the factor has no entries
+//! between components). Dense storage is n² words, so it is built only for spans of at most
+//! [`MAX_DOFS`] free DOFs (the §4.2 span has 119, a §5 girder of 16 elements 95); larger
+//! spans keep one solve per iteration.
+
+/// The largest span (free DOFs) given a dense flexibility: at most 1200² words (11.5 MB;
+/// the blocks of the components hold less).
+pub const MAX_DOFS: usize = 1200;
+
+/// Keff⁻¹ as one dense block per decoupled component (module docs).
+#[derive(Clone, Debug)]
+pub struct Flexibility {
+    n: usize,
+    /// Component of each DOF and its index within the component.
+    component: Vec<usize>,
+    local: Vec<usize>,
+    /// Per component: its DOFs (ascending) and its block of Keff⁻¹, column-major.
+    members: Vec<Vec<usize>>,
+    blocks: Vec<Vec<f64>>,
+}
+
+impl Flexibility {
+    /// The inverse of an n×n matrix with decoupled `components` (as from
+    /// [`super::SymBanded::components`]), `solve` doing x ← A⁻¹ x. `None` above
+    /// [`MAX_DOFS`].
+    pub fn new(
+        n: usize,
+        components: &[Vec<usize>],
+        mut solve: impl FnMut(&mut [f64]),
+    ) -> Option<Self> {
+        if n > MAX_DOFS {
+            return None;
+        }
+        let mut component = vec![0; n];
+        let mut local = vec![0; n];
+        for (c, members) in components.iter().enumerate() {
+            for (k, &i) in members.iter().enumerate() {
+                component[i] = c;
+                local[i] = k;
+            }
+        }
+        let mut x = vec![0.0; n];
+        let blocks = components
+            .iter()
+            .map(|members| {
+                let m = members.len();
+                let mut block = vec![0.0; m * m];
+                for (col, &j) in block.chunks_exact_mut(m).zip(members) {
+                    x.fill(0.0);
+                    x[j] = 1.0;
+                    solve(&mut x);
+                    for (b, &i) in col.iter_mut().zip(members) {
+                        *b = x[i];
+                    }
+                }
+                block
+            })
+            .collect();
+        Some(Flexibility {
+            n,
+            component,
+            local,
+            members: components.to_vec(),
+            blocks,
+        })
+    }
+
+    /// Dimension n.
+    pub fn nrows(&self) -> usize {
+        self.n
+    }
+
+    /// Stored values.
+    pub fn stored(&self) -> usize {
+        self.blocks.iter().map(Vec::len).sum()
+    }
+
+    /// Entry (i, j) of Keff⁻¹ (zero across components).
+    pub fn entry(&self, i: usize, j: usize) -> f64 {
+        let c = self.component[j];
+        if self.component[i] != c {
+            return 0.0;
+        }
+        self.blocks[c][self.local[j] * self.members[c].len() + self.local[i]]
+    }
+
+    /// d₁ at DOF `i`: `free[i] + Σ_j Z_ij load[j]`, the sum over the loaded DOFs of i's
+    /// component in the order they were added, then added to `free[i]` (as in
+    /// [`Self::complete`], so both give the same bits).
+    pub fn response_at(&self, support: &LoadSupport, free: &[f64], load: &[f64], i: usize) -> f64 {
+        let c = self.component[i];
+        let (block, m, il) = (&self.blocks[c], self.members[c].len(), self.local[i]);
+        let mut acc = 0.0;
+        for &(j, jl) in &support.lists[c] {
+            acc += block[jl * m + il] * load[j];
+        }
+        free[i] + acc
+    }
+
+    /// `out = free + Z·load` over every loaded DOF: the whole d₁, with the sums of
+    /// [`Self::response_at`]; a component without load copies `free`.
+    pub fn complete(&self, support: &mut LoadSupport, free: &[f64], load: &[f64], out: &mut [f64]) {
+        out[..self.n].copy_from_slice(&free[..self.n]);
+        for (c, list) in support.lists.iter().enumerate() {
+            if list.is_empty() {
+                continue;
+            }
+            let (block, members) = (&self.blocks[c], &self.members[c]);
+            let m = members.len();
+            let acc = &mut support.acc[..m];
+            acc.fill(0.0);
+            for &(j, jl) in list {
+                let (col, f) = (&block[jl * m..(jl + 1) * m], load[j]);
+                for (a, z) in acc.iter_mut().zip(col) {
+                    *a += z * f;
+                }
+            }
+            for (&i, a) in members.iter().zip(acc.iter()) {
+                out[i] = free[i] + a;
+            }
+        }
+    }
+}
+
+/// The loaded DOFs of one span's current iteration, per component, each once, in the order
+/// first loaded (global and in-component index). Capacity is reserved up front, so adding
+/// never allocates.
+#[derive(Clone, Debug)]
+pub struct LoadSupport {
+    lists: Vec<Vec<(usize, usize)>>,
+    marked: Vec<bool>,
+    len: usize,
+    /// Scratch of [`Flexibility::complete`], one component long.
+    acc: Vec<f64>,
+}
+
+impl LoadSupport {
+    /// Empty, for a span with flexibility `flex`.
+    pub fn new(flex: &Flexibility) -> Self {
+        LoadSupport {
+            lists: flex
+                .members
+                .iter()
+                .map(|m| Vec::with_capacity(m.len()))
+                .collect(),
+            marked: vec![false; flex.n],
+            len: 0,
+            acc: vec![0.0; flex.members.iter().map(Vec::len).max().unwrap_or(0)],
+        }
+    }
+
+    /// Number of loaded DOFs.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// No loaded DOF.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Forget every DOF: O(loaded DOFs).
+    pub fn clear(&mut self) {
+        for list in &mut self.lists {
+            for &(j, _) in list.iter() {
+                self.marked[j] = false;
+            }
+            list.clear();
+        }
+        self.len = 0;
+    }
+
+    /// Set the loaded DOFs of `load` to zero (every non-zero of a load vector built with
+    /// this support).
+    pub fn zero(&self, load: &mut [f64]) {
+        for list in &self.lists {
+            for &(j, _) in list {
+                load[j] = 0.0;
+            }
+        }
+    }
+
+    /// Record DOF `j` as loaded (once).
+    pub fn add(&mut self, flex: &Flexibility, j: usize) {
+        if !self.marked[j] {
+            self.marked[j] = true;
+            self.lists[flex.component[j]].push((j, flex.local[j]));
+            self.len += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::assembly::SpanModel;
+    use crate::fe::cholesky::SparseCholesky;
+    use crate::guideway::BeamSection;
+
+    /// On the §4.2 span's effective stiffness: the columns are Keff⁻¹'s (Keff·Z = I to
+    /// round-off), zero across components, and free + Z·F equals faer's solve of
+    /// Keff d = Keff·free + F to round-off, at single DOFs and in full.
+    #[test]
+    fn columns_invert_and_complete_matches_a_solve() {
+        let model = SpanModel::new(&BeamSection::paper_4_2(), 25.0, 20).unwrap();
+        let dt = 1e-3;
+        let keff = model.k.combine(1.0, &model.m, 4.0 / (dt * dt));
+        let n = keff.nrows();
+        let faer = SparseCholesky::new(&keff).unwrap();
+        let mut scratch = faer.scratch();
+        let components = keff.components();
+        assert_eq!(components.len(), 4);
+        let flex =
+            Flexibility::new(n, &components, |x| faer.solve_in_place(x, &mut scratch)).unwrap();
+        let dense = keff.to_dense();
+        let z = nalgebra::DMatrix::from_fn(n, n, |i, j| flex.entry(i, j));
+        let mut x = vec![0.0; n];
+        for j in 0..n {
+            // Each column is the solve of the unit vector, whose entries in other components
+            // come out exactly zero (as the block storage assumes).
+            x.fill(0.0);
+            x[j] = 1.0;
+            faer.solve_in_place(&mut x, &mut scratch);
+            for i in 0..n {
+                assert_eq!(z[(i, j)], x[i], "({i}, {j})");
+            }
+        }
+        let identity = &dense * &z;
+        for ((i, j), v) in (0..n)
+            .flat_map(|j| (0..n).map(move |i| (i, j)))
+            .zip(identity.iter())
+        {
+            let want = if i == j { 1.0 } else { 0.0 };
+            assert!((v - want).abs() < 1e-9, "(K Z)[{i}, {j}] = {v}");
+        }
+        // Loads on two elements' DOFs (the §4.2 car's two axles), a free response.
+        let mut support = LoadSupport::new(&flex);
+        let mut load = vec![0.0; n];
+        for (x, fz) in [(4.3, -3.7e4), (19.3, -3.6e4)] {
+            model.add_point_force_at(x, 1.5, 0.6, 2.0e3, fz, load.as_mut_slice(), |j| {
+                support.add(&flex, j)
+            });
+        }
+        assert!(support.len() > 12 && support.len() <= 24);
+        let free: Vec<f64> = (0..n).map(|i| 1e-4 * ((i as f64) * 0.37).sin()).collect();
+        let mut rhs = nalgebra::DVector::from_column_slice(&free);
+        rhs = &dense * rhs + nalgebra::DVector::from_column_slice(&load);
+        let mut want = rhs.as_slice().to_vec();
+        faer.solve_in_place(&mut want, &mut scratch);
+        let mut got = vec![0.0; n];
+        flex.complete(&mut support, &free, &load, &mut got);
+        let peak = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for i in 0..n {
+            assert!((got[i] - want[i]).abs() <= 1e-12 * peak, "{i}");
+            assert_eq!(got[i], flex.response_at(&support, &free, &load, i), "{i}");
+        }
+        support.clear();
+        assert!(support.is_empty());
+        flex.complete(&mut support, &free, &load, &mut got);
+        assert_eq!(got, free);
+    }
+}
