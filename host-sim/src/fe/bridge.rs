@@ -76,6 +76,9 @@ struct Span {
     support: Option<LoadSupport>,
     /// The trial displacement is `free + Z·load`, not yet formed in `trial.d`.
     lazy: bool,
+    /// The midspan section's element and rows (the probes' and records' query), by its
+    /// span-local x.
+    mid: (f64, Option<(usize, WheelShape<f64>)>),
     /// The loaded elements of the current iteration and, when `lazy`, their trial
     /// displacement (the queries of a coupling loop fall on them; flexibility spans).
     hot: Vec<(usize, ElementVector<f64>)>,
@@ -282,6 +285,10 @@ impl FeGuideway {
                 free_solved: false,
                 support: sys.flex.as_ref().map(LoadSupport::new),
                 lazy: false,
+                mid: (
+                    sys.model.length / 2.0,
+                    sys.model.shape_at(sys.model.length / 2.0, 0.0, 0.0),
+                ),
                 hot: Vec::with_capacity(if sys.flex.is_some() {
                     elements_per_span
                 } else {
@@ -541,7 +548,17 @@ impl Guideway for FeGuideway {
             .and_then(|(i, local)| {
                 let span = &self.spans[i];
                 let sys = &self.systems[span.system];
-                sys.model.section_with(local, |e| span.element(sys, e))
+                match span.mid {
+                    (mid, Some((e, ref s))) if mid == local => {
+                        let de = span.element(sys, e);
+                        Some(SectionMotion {
+                            y: s.y_at(&de),
+                            z: s.z_at(&de),
+                            rx: s.rx_at(&de),
+                        })
+                    }
+                    _ => sys.model.section_with(local, |e| span.element(sys, e)),
+                }
             })
             .unwrap_or_default()
     }

@@ -339,9 +339,18 @@ impl SpanNewmark {
     pub fn free_rhs(&self, from: &State, pred: &mut DVector<f64>, rhs: &mut DVector<f64>) {
         let dt = self.dt;
         let (a0, a1, a2) = (4.0 / (dt * dt), 2.0 / dt, 4.0 / dt);
-        pred.copy_from(&from.a);
-        pred.axpy(a0, &from.d, 1.0);
-        pred.axpy(a2, &from.v, 1.0);
+        // nalgebra's `copy_from` and two `axpy(·, ·, 1.0)` as one pass: the same operations.
+        let (p, a, d, v) = (
+            pred.as_mut_slice(),
+            from.a.as_slice(),
+            from.d.as_slice(),
+            from.v.as_slice(),
+        );
+        let n = p.len();
+        let (a, d, v) = (&a[..n], &d[..n], &v[..n]);
+        for i in 0..n {
+            p[i] = a2 * v[i] + (a0 * d[i] + a[i]);
+        }
         rhs.fill(0.0);
         self.m.mul_acc(pred.as_slice(), rhs.as_mut_slice());
         if let Some(c) = &self.c {
