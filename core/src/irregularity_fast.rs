@@ -101,6 +101,38 @@ impl<S: Scalar, B: AsRef<[S]>> Table<S, B> {
     }
 }
 
+impl<B: AsRef<[f64]>> Table<f64, B> {
+    /// [`Table::eval`] in plain f64, for hosts: the same operations in the same order without
+    /// the per-operation finiteness checks. `None` outside [`Table::range`] or when the result
+    /// is not finite (then every check of [`Table::eval`] would have passed only if it were),
+    /// so wherever this returns a value it is `eval`'s, bit for bit.
+    #[inline]
+    pub fn eval_nominal(&self, x: f64) -> Option<f64> {
+        let r = self.samples.as_ref();
+        let s = (x - self.x0) * self.inv_h;
+        let fl = libm::floor(s);
+        if !(fl >= 1.0 && fl + 2.0 < r.len() as f64) {
+            return None;
+        }
+        let i = fl as usize;
+        let u = s - fl;
+        let (um, u1, u2) = (u + 1.0, u - 1.0, u - 2.0);
+        let w = [
+            -u * u1 * u2 / 6.0,
+            um * u1 * u2 / 2.0,
+            -um * u * u2 / 2.0,
+            um * u * u1 / 6.0,
+        ];
+        let r = r.get(i - 1..i + 3)?;
+        let mut acc = 0.0;
+        for k in 0..4 {
+            acc += w[k] * r[k];
+        }
+        // A non-finite weight, product or partial sum leaves the sum non-finite.
+        acc.is_finite().then_some(acc)
+    }
+}
+
 /// Fills `out[j] = r(x0 + j·h)` from the direct sum (O(N) per sample, once, in `S`).
 pub fn fill<S: Scalar, const CAP: usize>(
     g: &Irregularity<S, CAP>,

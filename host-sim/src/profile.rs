@@ -44,8 +44,10 @@ impl Profile {
 
     /// r at x (m), by 4-point Lagrange interpolation (0 outside the sampled extent).
     pub fn at(&self, x: f64) -> f64 {
-        let (mut outside, mut ov) = (false, false);
-        self.table.eval(x, &mut outside, &mut ov)
+        self.table.eval_nominal(x).unwrap_or_else(|| {
+            let (mut outside, mut ov) = (false, false);
+            self.table.eval(x, &mut outside, &mut ov)
+        })
     }
 }
 

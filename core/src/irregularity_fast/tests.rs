@@ -106,3 +106,40 @@ fn f32_fixed_capacity_table_follows_f64() {
     }
     assert!(!out && !ov);
 }
+
+/// The plain-f64 evaluation gives `eval`'s bits wherever it answers, and answers everywhere
+/// inside the range: 2000 points across a 64-sample table (nodes, cell interiors, both ends),
+/// and `None` outside, at NaN, and on a table holding an infinite sample near it.
+#[test]
+fn nominal_eval_gives_the_bits_of_eval() {
+    let g = direct();
+    let mut s = [0.0f64; 64];
+    let mut ov = false;
+    fill(&g, 2.0, 0.05, &mut s, &mut ov);
+    let t: FixedTable<f64, 64> = Table::new(2.0, 0.05, s).unwrap();
+    let (lo, hi) = t.range();
+    for k in 0..2000 {
+        let x = lo - 0.2 + (hi - lo + 0.4) * k as f64 / 1999.0;
+        let (mut out, mut ov) = (false, false);
+        let want = t.eval(x, &mut out, &mut ov);
+        match t.eval_nominal(x) {
+            Some(got) => {
+                assert_eq!(got.to_bits(), want.to_bits(), "x = {x}");
+                assert!(!out && !ov);
+            }
+            None => assert!(out, "x = {x} inside the range, but no nominal value"),
+        }
+    }
+    assert_eq!(t.eval_nominal(f64::NAN), None);
+    let mut bad = s;
+    bad[30] = f64::INFINITY;
+    let t: FixedTable<f64, 64> = Table::new(2.0, 0.05, bad).unwrap();
+    let x = 2.0 + 30.2 * 0.05;
+    assert_eq!(t.eval_nominal(x), None);
+    let (mut out, mut ov) = (false, false);
+    t.eval(x, &mut out, &mut ov);
+    assert!(
+        ov,
+        "the checked evaluation flags what the nominal one declines"
+    );
+}
