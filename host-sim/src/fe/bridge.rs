@@ -274,7 +274,7 @@ impl FeGuideway {
                 trial: State::zeros(n),
                 load: DVector::zeros(n),
                 rhs_free: DVector::zeros(n),
-                pred: DVector::zeros(n),
+                pred: DVector::zeros(sys.newmark.pred_len()),
                 scratch: sys.newmark.factor().scratch(),
                 committed_at_rest: true,
                 trial_at_rest: true,

@@ -20,7 +20,7 @@
 //! `simplicial_solve_gives_faers_bits`) for far fewer instructions (docs/performance.md). A
 //! factor that faer stores supernodally keeps faer's solve.
 
-use super::banded::{SymBanded, SymSparse, ToDense};
+use super::banded::{ComponentProduct, SymBanded, SymSparse, ToDense};
 use super::cholesky::{Scratch, SparseCholesky};
 use super::component_band::ComponentBand;
 
@@ -167,6 +167,8 @@ pub struct SpanNewmark {
     dt: f64,
     m: SymSparse,
     c: Option<SymSparse>,
+    /// M (and C) as component bands, used for the products when they fit.
+    bands: Option<ComponentProduct>,
     keff: SparseCholesky,
     /// The same factor as a plain column loop (`None` when faer stores it supernodally).
     fast: Option<Simplicial>,
@@ -305,10 +307,15 @@ impl SpanNewmark {
         let keff = SparseCholesky::new(&keff)
             .map_err(|e| Error::numerical(format!("effective stiffness: {e}")))?;
         let band = band.filter(|b| b.stored() <= 3 * keff.factor_nonzeros());
+        let bands = match &c {
+            Some(c) => ComponentProduct::new(&components, &[m, c]),
+            None => ComponentProduct::new(&components, &[m]),
+        };
         Ok(SpanNewmark {
             dt,
             m: SymSparse::new(m),
             c: c.as_ref().map(SymSparse::new),
+            bands,
             keff,
             fast,
             band,
@@ -324,6 +331,7 @@ impl SpanNewmark {
     /// Stored values and indices of M, C and the factors, in words.
     pub fn storage_words(&self) -> usize {
         2 * (self.m.nonzeros() + self.c.as_ref().map_or(0, SymSparse::nonzeros))
+            + self.bands.as_ref().map_or(0, ComponentProduct::stored)
             + self.keff.factor_nonzeros()
             + self.band.as_ref().map_or(0, ComponentBand::stored)
     }
@@ -333,30 +341,50 @@ impl SpanNewmark {
         &self.keff
     }
 
+    /// Length of the scratch vector `pred` of [`Self::free_rhs`] (allocate it zeroed).
+    pub fn pred_len(&self) -> usize {
+        self.bands
+            .as_ref()
+            .map_or(self.m.nrows(), ComponentProduct::padded_len)
+    }
+
     /// The load-free right-hand side of the step from `from` (state at t):
     /// `rhs = M (a₀ d + a₂ v + a) + C (a₁ d + v)`, a₀ = 4/Δt², a₁ = 2/Δt, a₂ = 4/Δt;
-    /// `pred` is scratch. The step's displacement is then `Keff⁻¹ (rhs + F)`. No allocation.
+    /// `pred` is scratch of [`Self::pred_len`], zero when first given. The step's
+    /// displacement is then `Keff⁻¹ (rhs + F)`. No allocation. Through the component bands
+    /// when M and C fit them, else the row lists: the same sums either way.
     pub fn free_rhs(&self, from: &State, pred: &mut DVector<f64>, rhs: &mut DVector<f64>) {
         let dt = self.dt;
         let (a0, a1, a2) = (4.0 / (dt * dt), 2.0 / dt, 4.0 / dt);
-        // nalgebra's `copy_from` and two `axpy(·, ·, 1.0)` as one pass: the same operations.
-        let (p, a, d, v) = (
-            pred.as_mut_slice(),
-            from.a.as_slice(),
-            from.d.as_slice(),
-            from.v.as_slice(),
-        );
-        let n = p.len();
-        let (a, d, v) = (&a[..n], &d[..n], &v[..n]);
-        for i in 0..n {
-            p[i] = a2 * v[i] + (a0 * d[i] + a[i]);
-        }
+        let (a, d, v) = (from.a.as_slice(), from.d.as_slice(), from.v.as_slice());
+        let p = pred.as_mut_slice();
+        assert_eq!(p.len(), self.pred_len(), "scratch of the wrong length");
+        // nalgebra's `copy_from` and `axpy(·, ·, 1.0)` in one pass: the same operations.
+        let inertia = |i: usize| a2 * v[i] + (a0 * d[i] + a[i]);
+        let damping = |i: usize| a1 * d[i] + v[i];
         rhs.fill(0.0);
-        self.m.mul_acc(pred.as_slice(), rhs.as_mut_slice());
-        if let Some(c) = &self.c {
-            pred.copy_from(&from.v);
-            pred.axpy(a1, &from.d, 1.0);
-            c.mul_acc(pred.as_slice(), rhs.as_mut_slice());
+        let rhs = rhs.as_mut_slice();
+        match &self.bands {
+            Some(b) => {
+                b.scatter(p, inertia);
+                b.mul_acc(0, p, rhs);
+                if self.c.is_some() {
+                    b.scatter(p, damping);
+                    b.mul_acc(1, p, rhs);
+                }
+            }
+            None => {
+                for (i, p) in p.iter_mut().enumerate() {
+                    *p = inertia(i);
+                }
+                self.m.mul_acc(p, rhs);
+                if let Some(c) = &self.c {
+                    for (i, p) in p.iter_mut().enumerate() {
+                        *p = damping(i);
+                    }
+                    c.mul_acc(p, rhs);
+                }
+            }
         }
     }
 

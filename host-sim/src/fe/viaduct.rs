@@ -350,6 +350,7 @@ impl Viaduct {
             None => structure.c.clone(),
         };
         let newmark = SpanNewmark::with_damping_matrix(&structure.k, &structure.m, Some(c), dt)?;
+        let pred_len = newmark.pred_len();
         let static_factor = SparseCholesky::new(&structure.k)
             .map_err(|e| Error::numerical(format!("viaduct stiffness: {e}")))?;
         let n = structure.dofs();
@@ -365,7 +366,7 @@ impl Viaduct {
             trial: State::zeros(n),
             load: DVector::zeros(n),
             rhs_free: DVector::zeros(n),
-            pred: DVector::zeros(n),
+            pred: DVector::zeros(pred_len),
             rhs: DVector::zeros(n),
             free_valid: false,
             committed_at_rest: true,
