@@ -411,7 +411,7 @@ mod tests {
                     seed ^= seed >> 7;
                     seed ^= seed << 17;
                     let u = (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-                    if seed % 5 == 0 {
+                    if seed.is_multiple_of(5) {
                         0.0
                     } else {
                         u * 10f64.powi((seed % 7) as i32 - 3)
