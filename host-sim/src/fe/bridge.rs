@@ -110,7 +110,9 @@ impl Span {
             // The columns pay while the loads cover at most half the DOFs (module docs).
             if 2 * support.len() <= flex.nrows() {
                 if !self.free_solved {
-                    self.free.copy_from(&self.rhs_free);
+                    self.free
+                        .as_mut_slice()
+                        .copy_from_slice(self.rhs_free.as_slice());
                     sys.newmark
                         .solve_in_place(&mut self.free, &mut self.scratch);
                     self.free_solved = true;

@@ -362,7 +362,7 @@ impl SpanNewmark {
         // nalgebra's `copy_from` and `axpy(·, ·, 1.0)` in one pass: the same operations.
         let inertia = |i: usize| a2 * v[i] + (a0 * d[i] + a[i]);
         let damping = |i: usize| a1 * d[i] + v[i];
-        rhs.fill(0.0);
+        rhs.as_mut_slice().fill(0.0);
         let rhs = rhs.as_mut_slice();
         match &self.bands {
             Some(b) => {
