@@ -23,7 +23,7 @@
 //! Today's default columns keep their names (`midspan_z` is `span1.midspan.z`, `wheel1_gap_z`
 //! is `wheel1.gap_z`, …). Every probe is checked against the case before the run starts.
 
-use crate::guideway::Guideway;
+use crate::guideway::{Guideway, SectionMotion};
 use crate::simulation::magnet_gaps;
 use crate::vehicle::Node;
 use crate::{Error, Result};
@@ -286,9 +286,22 @@ pub struct StepView<'a> {
 impl StepView<'_> {
     /// The value of `p` (NaN where not applicable).
     pub fn value(&self, p: &Probe) -> f64 {
+        self.value_with(p, &mut None)
+    }
+
+    /// As [`Self::value`], keeping in `memo` the section of the last midspan read, so a
+    /// span's three midspan columns query the guideway once (a row's probes in order).
+    pub fn value_with(&self, p: &Probe, memo: &mut Option<(usize, SectionMotion)>) -> f64 {
         match *p {
             Probe::Midspan { span, q } => {
-                let m = self.guideway.section_at(self.midspans[span]);
+                let m = match *memo {
+                    Some((s, m)) if s == span => m,
+                    _ => {
+                        let m = self.guideway.section_at(self.midspans[span]);
+                        *memo = Some((span, m));
+                        m
+                    }
+                };
                 match q {
                     SectionQ::Y => m.y,
                     SectionQ::Z => m.z,
@@ -408,6 +421,21 @@ pub fn push_csv_f64(line: &mut Vec<u8>, v: f64) {
     }
 }
 
+/// Appends `n` in decimal (as `{n}` formats it).
+fn push_decimal(line: &mut Vec<u8>, n: u32) {
+    let mut digits = [0u8; 10];
+    let (mut k, mut n) = (digits.len(), n);
+    loop {
+        k -= 1;
+        digits[k] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    line.extend_from_slice(&digits[k..]);
+}
+
 /// Streams `t, <probes…>, iterations, collision` rows to a CSV file (SI; shortest round-trip
 /// decimals, [`push_csv_f64`]; not-applicable values empty).
 ///
@@ -455,11 +483,14 @@ impl<W: Write> Recorder for CsvRecorder<W> {
         let line = &mut self.line;
         line.clear();
         push_csv_f64(line, step.t);
+        let mut memo = None;
         for p in &self.probes.probes {
             line.push(b',');
-            push_csv_f64(line, step.value(p));
+            push_csv_f64(line, step.value_with(p, &mut memo));
         }
-        let _ = write!(line, ",{},", step.iterations);
+        line.push(b',');
+        push_decimal(line, step.iterations);
+        line.push(b',');
         line.push(if step.collision { b'1' } else { b'0' });
         line.push(b'\n');
         self.out
@@ -493,6 +524,16 @@ mod tests {
     /// A row of awkward values through the recorder: every cell parses back to the value's
     /// bits (`-0.0` stays `-0.0`), not-applicable values are empty cells, and the integers
     /// are plain.
+    /// Iteration counts are written as `{n}` writes them.
+    #[test]
+    fn decimal_matches_format() {
+        for n in [0u32, 1, 9, 10, 99, 100, 12345, u32::MAX] {
+            let mut line = Vec::new();
+            push_decimal(&mut line, n);
+            assert_eq!(String::from_utf8(line).unwrap(), n.to_string());
+        }
+    }
+
     #[test]
     fn csv_cells_parse_back_to_the_same_bits() {
         let values = [

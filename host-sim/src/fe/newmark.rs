@@ -445,15 +445,25 @@ impl SpanNewmark {
 pub fn complete_step(dt: f64, committed: &mut State, trial: &mut State) {
     let (a0, a2, h) = (4.0 / (dt * dt), 4.0 / dt, dt / 2.0);
     let n = committed.d.len();
+    let (d, v, a) = (
+        &mut committed.d.as_mut_slice()[..n],
+        &mut committed.v.as_mut_slice()[..n],
+        &mut committed.a.as_mut_slice()[..n],
+    );
+    let (d1s, tv, ta) = (
+        &trial.d.as_slice()[..n],
+        &mut trial.v.as_mut_slice()[..n],
+        &mut trial.a.as_mut_slice()[..n],
+    );
     for i in 0..n {
-        let (d0, v0, acc0, d1) = (committed.d[i], committed.v[i], committed.a[i], trial.d[i]);
+        let (d0, v0, acc0, d1) = (d[i], v[i], a[i], d1s[i]);
         let acc1 = a0 * (d1 - d0) - a2 * v0 - acc0;
         let v1 = v0 + h * acc0 + h * acc1;
-        committed.d[i] = d1;
-        committed.v[i] = v1;
-        committed.a[i] = acc1;
-        trial.v[i] = v1;
-        trial.a[i] = acc1;
+        d[i] = d1;
+        v[i] = v1;
+        a[i] = acc1;
+        tv[i] = v1;
+        ta[i] = acc1;
     }
 }
 
