@@ -14,9 +14,11 @@
 //! Keff⁻¹ r is solved once per step too, and a Newton–Raphson iteration solves nothing: a
 //! query reads d_free + Keff⁻¹ F on the 12 DOFs of its element only, and the whole d₁ is
 //! formed on commit. Where the loads cover more than half of a span's DOFs (a train's
-//! axles on every element), and on spans too large for the dense columns, each iteration
-//! instead costs one sparse forward/back substitution of r + F on the *loaded* spans (an
-//! unloaded span's response is solved once per step and kept). Velocity and acceleration are
+//! axles on every element), on spans too large for the dense columns, and in a step after one
+//! that took a single `solve_step` (constant moving forces: there the direct solve is the one
+//! solve, the columns a second), each iteration instead costs one sparse forward/back
+//! substitution of r + F on the *loaded* spans (an unloaded span's response is solved once per
+//! step and kept). Velocity and acceleration are
 //! completed once, on commit. Nothing in the time loop allocates.
 //!
 //! Wheel loads and guideway motion use the paper's cubic Hermite interpolation (Eq. 15, 16,
@@ -76,6 +78,9 @@ struct Span {
     support: Option<LoadSupport>,
     /// The trial displacement is `free + Z·load`, not yet formed in `trial.d`.
     lazy: bool,
+    /// `support` and `hot` hold every loaded DOF and element of `load` (recorded in steps
+    /// that use the columns, while the loads cover at most half the DOFs).
+    tracking: bool,
     /// The midspan section's element and rows (the probes' and records' query), by its
     /// span-local x.
     mid: (f64, Option<(usize, WheelShape<f64>)>),
@@ -86,7 +91,7 @@ struct Span {
 
 impl Span {
     /// The trial displacement for this iteration's loads (module docs).
-    fn advance(&mut self, sys: &SpanSystem) {
+    fn advance(&mut self, sys: &SpanSystem, columns: bool) {
         if self.committed_at_rest && !self.loaded {
             if !self.trial_at_rest {
                 self.trial.d.fill(0.0);
@@ -106,7 +111,9 @@ impl Span {
             self.free_valid = true;
             self.trial_is_free = false;
         }
-        if let (Some(flex), Some(support)) = (&sys.flex, &self.support) {
+        if let (true, true, Some(flex), Some(support)) =
+            (columns, self.tracking, &sys.flex, &self.support)
+        {
             // The columns pay while the loads cover at most half the DOFs (module docs).
             if 2 * support.len() <= flex.nrows() {
                 if !self.free_solved {
@@ -223,6 +230,11 @@ pub struct FeGuideway {
     solved: bool,
     /// The places of the last `solve_step`'s loads (at most [`PLACES`]; capacity reserved).
     places: Vec<Place>,
+    /// `solve_step` calls since the last commit, and whether the step uses the flexibility
+    /// columns: not after a step of one call (constant moving forces), where the direct
+    /// solve is one solve and the columns would add a second (module docs).
+    calls: u32,
+    columns: bool,
 }
 
 impl FeGuideway {
@@ -287,6 +299,7 @@ impl FeGuideway {
                 free_solved: false,
                 support: sys.flex.as_ref().map(LoadSupport::new),
                 lazy: false,
+                tracking: false,
                 mid: (
                     sys.model.length / 2.0,
                     sys.model.shape_at(sys.model.length / 2.0, 0.0, 0.0),
@@ -308,6 +321,8 @@ impl FeGuideway {
             parallel: false,
             solved: false,
             places: Vec::with_capacity(PLACES),
+            calls: 0,
+            columns: true,
         })
     }
 
@@ -413,18 +428,17 @@ impl FeGuideway {
         }
         for &i in &self.loaded {
             let s = &mut self.spans[i];
-            match &mut s.support {
-                Some(support) => {
-                    support.zero(s.load.as_mut_slice());
-                    if !same {
-                        support.clear();
-                    }
-                }
-                None => s.load.as_mut_slice().fill(0.0),
+            match (&mut s.support, s.tracking) {
+                (Some(support), true) => support.zero(s.load.as_mut_slice()),
+                _ => s.load.as_mut_slice().fill(0.0),
             }
             if !same {
+                if let Some(support) = &mut s.support {
+                    support.clear();
+                }
                 s.hot.clear();
                 s.loaded = false;
+                s.tracking = false;
             }
         }
         if !same {
@@ -445,21 +459,30 @@ impl FeGuideway {
             let (i, e) = (*i, *e);
             let span = &mut self.spans[i];
             let sys = &self.systems[span.system];
+            if !same && !span.loaded {
+                span.loaded = true;
+                span.tracking = self.columns && span.support.is_some();
+                self.loaded.push(i);
+            }
+            let track = !same && span.tracking;
             let (load, support) = (span.load.as_mut_slice(), &mut span.support);
             sys.model.add_shaped_force(e, shape, p.fy, p.fz, load, |j| {
-                if let (false, Some(flex), Some(support)) = (same, &sys.flex, support.as_mut()) {
+                if let (true, Some(flex), Some(support)) = (track, &sys.flex, support.as_mut()) {
                     support.add(flex, j);
                 }
             });
-            if same {
+            if !track {
                 continue;
             }
-            if span.support.is_some() && !span.hot.iter().any(|h| h.0 == e) {
+            // Past half the DOFs the columns do not pay (module docs): stop recording.
+            if span
+                .support
+                .as_ref()
+                .is_some_and(|s| 2 * s.len() > sys.model.free_dofs())
+            {
+                span.tracking = false;
+            } else if !span.hot.iter().any(|h| h.0 == e) {
                 span.hot.push((e, ElementVector::zeros()));
-            }
-            if !span.loaded {
-                span.loaded = true;
-                self.loaded.push(i);
             }
         }
     }
@@ -515,14 +538,15 @@ impl Guideway for FeGuideway {
 
     fn solve_step(&mut self, loads: &[PointLoad]) {
         self.distribute(loads);
-        let systems = &self.systems;
+        self.calls += 1;
+        let (systems, columns) = (&self.systems, self.columns);
         if self.parallel {
             self.spans
                 .par_iter_mut()
-                .for_each(|s| s.advance(&systems[s.system]));
+                .for_each(|s| s.advance(&systems[s.system], columns));
         } else {
             for s in &mut self.spans {
-                s.advance(&systems[s.system]);
+                s.advance(&systems[s.system], columns);
             }
         }
         self.solved = true;
@@ -580,5 +604,7 @@ impl Guideway for FeGuideway {
             }
         }
         self.solved = false;
+        self.columns = self.calls > 1;
+        self.calls = 0;
     }
 }
