@@ -235,6 +235,11 @@ impl SpanModel {
         }
     }
 
+    /// Free index of each of element `e`'s 12 DOFs (`None` where supported).
+    pub fn element_free(&self, e: usize) -> &[Option<usize>] {
+        &self.free_index[e * DOFS_PER_NODE..e * DOFS_PER_NODE + ELEMENT_DOFS]
+    }
+
     /// Element `e`'s 12 DOFs with `value(free index)` (supported DOFs are zero).
     pub fn gather_with(&self, e: usize, mut value: impl FnMut(usize) -> f64) -> ElementVector<f64> {
         let base = e * DOFS_PER_NODE;

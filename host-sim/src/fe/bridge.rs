@@ -30,11 +30,11 @@
 
 use super::assembly::SpanModel;
 use super::cholesky::{Scratch, SparseCholesky};
-use super::flexibility::{Flexibility, LoadSupport};
+use super::flexibility::{Flexibility, HotRows, LoadSupport};
 use super::newmark::{Rayleigh, SpanNewmark, State};
 use crate::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
 use crate::Error;
-use maglev_core::gap::{ElementVector, WheelShape};
+use maglev_core::gap::{ElementVector, WheelShape, ELEMENT_DOFS};
 use nalgebra::DVector;
 use rayon::prelude::*;
 
@@ -87,6 +87,12 @@ struct Span {
     /// The loaded elements of the current iteration and, when `lazy`, their trial
     /// displacement (the queries of a coupling loop fall on them; flexibility spans).
     hot: Vec<(usize, ElementVector<f64>)>,
+    /// Keff⁻¹'s rows at the hot elements' DOFs over the support (flexibility spans), to be
+    /// gathered again when `rows_dirty`.
+    rows: Option<HotRows>,
+    rows_dirty: bool,
+    /// Scratch of the hot elements' values, 12 per element.
+    hot_values: Vec<f64>,
 }
 
 impl Span {
@@ -125,10 +131,33 @@ impl Span {
                     self.free_solved = true;
                 }
                 let (free, load) = (self.free.as_slice(), self.load.as_slice());
-                for (e, de) in &mut self.hot {
-                    *de = sys
-                        .model
-                        .gather_with(*e, |f| flex.response_at(support, free, load, f));
+                if let Some(rows) = &mut self.rows {
+                    if self.rows_dirty {
+                        let dofs = self
+                            .hot
+                            .iter()
+                            .flat_map(|&(e, _)| sys.model.element_free(e).iter().copied());
+                        rows.build(flex, support, dofs);
+                        self.rows_dirty = false;
+                    }
+                }
+                match &mut self.rows {
+                    Some(rows) if rows.is_ready() => {
+                        let values = &mut self.hot_values[..ELEMENT_DOFS * self.hot.len()];
+                        rows.eval(support, free, load, values);
+                        for ((_, de), v) in
+                            self.hot.iter_mut().zip(values.chunks_exact(ELEMENT_DOFS))
+                        {
+                            de.as_mut_slice().copy_from_slice(v);
+                        }
+                    }
+                    _ => {
+                        for (e, de) in &mut self.hot {
+                            *de = sys
+                                .model
+                                .gather_with(*e, |f| flex.response_at(support, free, load, f));
+                        }
+                    }
                 }
                 self.lazy = true;
                 self.trial_is_free = false;
@@ -300,6 +329,19 @@ impl FeGuideway {
                 support: sys.flex.as_ref().map(LoadSupport::new),
                 lazy: false,
                 tracking: false,
+                rows: sys
+                    .flex
+                    .as_ref()
+                    .map(|f| HotRows::new(f, ELEMENT_DOFS * elements_per_span)),
+                rows_dirty: true,
+                hot_values: vec![
+                    0.0;
+                    if sys.flex.is_some() {
+                        ELEMENT_DOFS * elements_per_span
+                    } else {
+                        0
+                    }
+                ],
                 mid: (
                     sys.model.length / 2.0,
                     sys.model.shape_at(sys.model.length / 2.0, 0.0, 0.0),
@@ -439,6 +481,7 @@ impl FeGuideway {
                 s.hot.clear();
                 s.loaded = false;
                 s.tracking = false;
+                s.rows_dirty = true;
             }
         }
         if !same {
@@ -461,6 +504,7 @@ impl FeGuideway {
             let sys = &self.systems[span.system];
             if !same && !span.loaded {
                 span.loaded = true;
+                span.rows_dirty = true;
                 span.tracking = self.columns && span.support.is_some();
                 self.loaded.push(i);
             }

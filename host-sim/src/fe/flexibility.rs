@@ -205,6 +205,107 @@ impl LoadSupport {
     }
 }
 
+/// The rows of Keff⁻¹ at a few DOFs (the loaded elements' own) over the current load
+/// support, gathered once per step, so each iteration's [`Flexibility::response_at`] at those
+/// DOFs is a dot product over contiguous memory: the same products in the same order, so
+/// the same bits. Storage is reserved up front ([`HotRows::CAP`] values); a support too
+/// large for it is refused and the caller keeps `response_at`.
+#[derive(Clone, Debug)]
+pub struct HotRows {
+    /// Per DOF: its free index (`None` where supported), the offset of its row in `rows`
+    /// and of its component's loads in `loads`, and the row's length.
+    index: Vec<(Option<usize>, usize, usize, usize)>,
+    rows: Vec<f64>,
+    /// The loads of the support, component by component in list order; `offsets[c]` where
+    /// component c's start.
+    loads: Vec<f64>,
+    offsets: Vec<usize>,
+    ok: bool,
+}
+
+impl HotRows {
+    /// Values reserved for the rows.
+    pub const CAP: usize = 4096;
+
+    /// Empty, for spans with flexibility `flex` and at most `dofs` hot DOFs.
+    pub fn new(flex: &Flexibility, dofs: usize) -> Self {
+        HotRows {
+            index: Vec::with_capacity(dofs),
+            rows: Vec::with_capacity(Self::CAP),
+            loads: Vec::with_capacity(flex.n),
+            offsets: vec![0; flex.members.len()],
+            ok: false,
+        }
+    }
+
+    /// Gather the rows of the DOFs `dofs` (free indices, `None` for a supported DOF) over
+    /// `support`; false (and unusable) if they would exceed the reserved storage.
+    pub fn build(
+        &mut self,
+        flex: &Flexibility,
+        support: &LoadSupport,
+        dofs: impl Iterator<Item = Option<usize>>,
+    ) -> bool {
+        self.index.clear();
+        self.rows.clear();
+        let mut next = 0;
+        for (c, list) in support.lists.iter().enumerate() {
+            self.offsets[c] = next;
+            next += list.len();
+        }
+        self.ok = false;
+        for i in dofs {
+            if self.index.len() == self.index.capacity() {
+                return false;
+            }
+            let Some(i) = i else {
+                self.index.push((None, 0, 0, 0));
+                continue;
+            };
+            let c = flex.component[i];
+            let list = &support.lists[c];
+            if self.rows.len() + list.len() > Self::CAP {
+                return false;
+            }
+            let (block, m, il) = (&flex.blocks[c], flex.members[c].len(), flex.local[i]);
+            self.index
+                .push((Some(i), self.rows.len(), self.offsets[c], list.len()));
+            self.rows
+                .extend(list.iter().map(|&(_, jl)| block[jl * m + il]));
+        }
+        self.ok = true;
+        true
+    }
+
+    /// Built and usable.
+    pub fn is_ready(&self) -> bool {
+        self.ok
+    }
+
+    /// `out[k]` = [`Flexibility::response_at`] at the k-th DOF of [`Self::build`] (0 where
+    /// supported), for this iteration's `load` on the same support.
+    pub fn eval(&mut self, support: &LoadSupport, free: &[f64], load: &[f64], out: &mut [f64]) {
+        self.loads.clear();
+        for list in &support.lists {
+            self.loads.extend(list.iter().map(|&(j, _)| load[j]));
+        }
+        for (o, &(i, row, at, len)) in out.iter_mut().zip(&self.index) {
+            let Some(i) = i else {
+                *o = 0.0;
+                continue;
+            };
+            let mut acc = 0.0;
+            for (z, l) in self.rows[row..row + len]
+                .iter()
+                .zip(&self.loads[at..at + len])
+            {
+                acc += z * l;
+            }
+            *o = free[i] + acc;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -268,6 +369,19 @@ mod tests {
         for i in 0..n {
             assert!((got[i] - want[i]).abs() <= 1e-12 * peak, "{i}");
             assert_eq!(got[i], flex.response_at(&support, &free, &load, i), "{i}");
+        }
+        // The gathered rows give response_at's bits at two elements' DOFs.
+        let dofs: Vec<Option<usize>> = [3usize, 15]
+            .iter()
+            .flat_map(|&e| model.element_free(e).to_vec())
+            .collect();
+        let mut rows = HotRows::new(&flex, dofs.len());
+        assert!(rows.build(&flex, &support, dofs.iter().copied()));
+        let mut out = vec![f64::NAN; dofs.len()];
+        rows.eval(&support, &free, &load, &mut out);
+        for (o, d) in out.iter().zip(&dofs) {
+            let want = d.map_or(0.0, |i| flex.response_at(&support, &free, &load, i));
+            assert_eq!(o.to_bits(), want.to_bits());
         }
         support.clear();
         assert!(support.is_empty());
