@@ -75,23 +75,10 @@ impl<S: Scalar, B: AsRef<[S]>> Table<S, B> {
     /// `*outside = true` beyond [`Table::range`]. Saturating arithmetic flags `overflow`.
     pub fn eval(&self, x: f64, outside: &mut bool, overflow: &mut bool) -> S {
         let r = self.samples.as_ref();
-        let s = (x - self.x0) * self.inv_h;
-        let fl = libm::floor(s);
-        // NaN fails both comparisons; the node i−1 … i+2 must exist.
-        if !(fl >= 1.0 && fl + 2.0 < r.len() as f64) {
+        let Some((i, w)) = cell(self.x0, self.inv_h, r.len(), x) else {
             *outside = true;
             return S::ZERO;
-        }
-        let i = fl as usize;
-        let u = s - fl;
-        // Lagrange basis on nodes −1, 0, 1, 2 at u ∈ [0, 1), formed in f64 (O(1) work).
-        let (um, u1, u2) = (u + 1.0, u - 1.0, u - 2.0);
-        let w = [
-            -u * u1 * u2 / 6.0,
-            um * u1 * u2 / 2.0,
-            -um * u * u2 / 2.0,
-            um * u * u1 / 6.0,
-        ];
+        };
         let mut acc = S::ZERO;
         for (k, wk) in w.iter().enumerate() {
             let wk = S::from_f64(*wk, overflow);
@@ -109,20 +96,7 @@ impl<B: AsRef<[f64]>> Table<f64, B> {
     #[inline]
     pub fn eval_nominal(&self, x: f64) -> Option<f64> {
         let r = self.samples.as_ref();
-        let s = (x - self.x0) * self.inv_h;
-        let fl = libm::floor(s);
-        if !(fl >= 1.0 && fl + 2.0 < r.len() as f64) {
-            return None;
-        }
-        let i = fl as usize;
-        let u = s - fl;
-        let (um, u1, u2) = (u + 1.0, u - 1.0, u - 2.0);
-        let w = [
-            -u * u1 * u2 / 6.0,
-            um * u1 * u2 / 2.0,
-            -um * u * u2 / 2.0,
-            um * u * u1 / 6.0,
-        ];
+        let (i, w) = cell(self.x0, self.inv_h, r.len(), x)?;
         let r = r.get(i - 1..i + 3)?;
         let mut acc = 0.0;
         for k in 0..4 {
@@ -131,6 +105,27 @@ impl<B: AsRef<[f64]>> Table<f64, B> {
         // A non-finite weight, product or partial sum leaves the sum non-finite.
         acc.is_finite().then_some(acc)
     }
+}
+
+/// The cell of `x` on a grid `x0 + j/inv_h` of `len` nodes and its 4-point Lagrange weights
+/// on nodes −1, 0, 1, 2 at u ∈ [0, 1), formed in f64 (O(1) work); `None` unless the nodes
+/// i−1 … i+2 exist (NaN fails both comparisons).
+#[inline]
+fn cell(x0: f64, inv_h: f64, len: usize, x: f64) -> Option<(usize, [f64; 4])> {
+    let s = (x - x0) * inv_h;
+    let fl = libm::floor(s);
+    if !(fl >= 1.0 && fl + 2.0 < len as f64) {
+        return None;
+    }
+    let u = s - fl;
+    let (um, u1, u2) = (u + 1.0, u - 1.0, u - 2.0);
+    let w = [
+        -u * u1 * u2 / 6.0,
+        um * u1 * u2 / 2.0,
+        -um * u * u2 / 2.0,
+        um * u * u1 / 6.0,
+    ];
+    Some((fl as usize, w))
 }
 
 /// Fills `out[j] = r(x0 + j·h)` from the direct sum (O(N) per sample, once, in `S`).

@@ -192,29 +192,13 @@ impl SpanModel {
         fz: f64,
         f: &mut DVector<f64>,
     ) {
-        let _ = self.add_point_force_at(x, ey, ez, fy, fz, f.as_mut_slice(), |_| {});
+        if let Some((e, shape)) = self.shape_at(x, ey, ez) {
+            self.add_shaped_force(e, &shape, fy, fz, f.as_mut_slice(), |_| {});
+        }
     }
 
-    /// As [`Self::add_point_force`], calling `on_dof` with each free DOF it adds to; the
-    /// loaded element, `None` off the span.
-    #[allow(clippy::too_many_arguments)]
-    pub fn add_point_force_at(
-        &self,
-        x: f64,
-        ey: f64,
-        ez: f64,
-        fy: f64,
-        fz: f64,
-        f: &mut [f64],
-        on_dof: impl FnMut(usize),
-    ) -> Option<usize> {
-        let (e, shape) = self.shape_at(x, ey, ez)?;
-        self.add_shaped_force(e, &shape, fy, fz, f, on_dof);
-        Some(e)
-    }
-
-    /// As [`Self::add_point_force_at`] for a point already located: element `e`, `shape`
-    /// from [`Self::shape_at`].
+    /// As [`Self::add_point_force`] for a point already located (element `e`, `shape` from
+    /// [`Self::shape_at`]) into a slice, calling `on_dof` with each free DOF it adds to.
     pub fn add_shaped_force(
         &self,
         e: usize,

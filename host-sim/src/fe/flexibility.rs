@@ -353,9 +353,8 @@ mod tests {
         let mut support = LoadSupport::new(&flex);
         let mut load = vec![0.0; n];
         for (x, fz) in [(4.3, -3.7e4), (19.3, -3.6e4)] {
-            model.add_point_force_at(x, 1.5, 0.6, 2.0e3, fz, load.as_mut_slice(), |j| {
-                support.add(&flex, j)
-            });
+            let (e, shape) = model.shape_at(x, 1.5, 0.6).unwrap();
+            model.add_shaped_force(e, &shape, 2.0e3, fz, &mut load, |j| support.add(&flex, j));
         }
         assert!(support.len() > 12 && support.len() <= 24);
         let free: Vec<f64> = (0..n).map(|i| 1e-4 * ((i as f64) * 0.37).sin()).collect();
