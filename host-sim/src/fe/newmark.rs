@@ -9,16 +9,18 @@
 //! Two integrators share the formulas: [`Newmark`], dense, for small systems (the vehicle);
 //! [`SpanNewmark`], banded matrices and a sparse Cholesky factor, for the guideway spans. The
 //! span integrator splits the step into its load-free part, computed once per step
-//! ([`SpanNewmark::free_rhs`]), the solve of one right-hand side per Newton–Raphson
-//! iteration, and the velocity and acceleration update done once, on commit
+//! ([`SpanNewmark::free_rhs`], M and C products over the decoupled components as dense bands),
+//! the solve of one right-hand side (per step with [`super::flexibility`], else per
+//! Newton–Raphson iteration), and the velocity and acceleration update done once, on commit
 //! ([`SpanNewmark::finish`]).
 //!
-//! The span's solve ([`SpanNewmark::solve_in_place`]) runs faer's factor through
-//! [`Simplicial`]: a plain loop over the factor's columns, the permutation folded into the
-//! row indices and the diagonal's reciprocals computed once. It performs the operations of
-//! faer's simplicial solve in faer's order, so it gives the same bits (test
-//! `simplicial_solve_gives_faers_bits`) for far fewer instructions (docs/performance.md). A
-//! factor that faer stores supernodally keeps faer's solve.
+//! The span's solve ([`SpanNewmark::solve_in_place`]) runs through [`ComponentBand`] (the
+//! same matrix factorised as narrow bands over its decoupled components; round-off against
+//! faer's) when it fits, else faer's factor through [`Simplicial`]: a plain loop over the
+//! factor's columns, the permutation folded into the row indices and the diagonal's
+//! reciprocals computed once, performing faer's simplicial solve's operations in faer's
+//! order, so giving the same bits (test `simplicial_solve_gives_faers_bits`). A factor that
+//! faer stores supernodally keeps faer's solve.
 
 use super::banded::{ComponentProduct, SymBanded, SymSparse, ToDense};
 use super::cholesky::{Scratch, SparseCholesky};
