@@ -102,11 +102,9 @@ pub struct Case {
     /// simply supported spans on rigid supports.
     pub viaduct: Option<ViaductSpec>,
     pub train: TrainCase,
-    /// The magnets' controller (p0 is set per magnet from its car's statics); for a train of
-    /// forces, the paper's parameters at this Δt (unused: forces have no magnets).
-    pub controller: Params,
-    /// Whether the scenario has a `[controller]` section (a forces train needs none).
-    pub has_controller: bool,
+    /// The magnets' controller (p0 is set per magnet from its car's statics); `None` for a
+    /// train without magnets (forces, wheel/rail), whose scenario needs no `[controller]`.
+    pub controller: Option<Params>,
     /// The levitation law, gap-loop gains designed for this vehicle (docs/gap-loop.md).
     pub law: Law,
     pub geometry: Geometry,
@@ -164,14 +162,14 @@ impl Case {
         }
         let (train, geometry) = train(&sc.vehicle)?;
         let controller = match (&sc.controller, &train) {
-            (Some(_), _) => controller(&sc, dt)?,
+            (Some(_), _) => Some(controller(&sc, dt)?),
             (None, TrainCase::Fig1 { .. } | TrainCase::Maglev { .. }) => {
                 return Err(Error::invalid(
                     "controller",
                     "a train with magnets needs a [controller] section",
                 ))
             }
-            (None, TrainCase::Forces(_) | TrainCase::WheelRail { .. }) => Params::paper_wheel(dt),
+            (None, TrainCase::Forces(_) | TrainCase::WheelRail { .. }) => None,
         };
         let t_end = match r.t_end_s {
             Some(t) => positive("run.t_end_s", t)?,
@@ -186,7 +184,7 @@ impl Case {
                 ),
             ));
         }
-        let law = law(&sc, &train, &controller, geometry, dt)?;
+        let law = law(&sc, &train, controller.as_ref(), geometry, dt)?;
         let irregularity_seed = sc
             .irregularity
             .as_ref()
@@ -205,7 +203,6 @@ impl Case {
             bridge,
             viaduct,
             train,
-            has_controller: sc.controller.is_some(),
             controller,
             law,
             geometry,
@@ -279,11 +276,7 @@ impl Case {
 
     /// The controller's nominal gap h0 (m); 0 for a train of forces (no gaps).
     pub fn h0(&self) -> f64 {
-        if self.has_controller {
-            self.controller.h0
-        } else {
-            0.0
-        }
+        self.controller.map_or(0.0, |p| p.h0)
     }
 
     /// X of the middle of every span (the `span{K}.midspan` probes).
@@ -349,8 +342,7 @@ impl Case {
                 })).collect::<Vec<_>>(),
             }),
         };
-        let p = &self.controller;
-        let controller = self.has_controller.then(|| {
+        let controller = self.controller.as_ref().map(|p| {
             json!({
                 "i0_A": p.i0, "h0_m": p.h0, "r0_ohm": p.r0,
                 "kp_V_m_per_A": p.kp, "ki_V_m_per_A_s": p.ki, "alpha": p.alpha,
@@ -907,11 +899,15 @@ fn controller(sc: &Scenario, dt: f64) -> Result<Params> {
 fn law(
     sc: &Scenario,
     train: &TrainCase,
-    controller: &Params,
+    controller: Option<&Params>,
     geometry: Geometry,
     dt: f64,
 ) -> Result<Law> {
-    match sc.controller.as_ref().map_or(LawKey::Paper, |c| c.law) {
+    let (key, controller) = match (sc.controller.as_ref(), controller) {
+        (Some(c), Some(p)) => (c.law, p),
+        _ => return Ok(Law::Paper),
+    };
+    match key {
         LawKey::Paper => Ok(Law::Paper),
         LawKey::GapLoop => Ok(Law::GapLoop(match train {
             // Gains designed for this case's car, inner law and geometry (docs/gap-loop.md);
@@ -988,7 +984,7 @@ mod tests {
         // (25 m bridge + 15 m wheelbase) / 100 m/s + 0.1 s
         assert!((c.t_end - 0.5).abs() < 1e-12);
         assert_eq!(c.law, Law::Paper);
-        assert_eq!(c.controller.scheme, Scheme::Paper);
+        assert_eq!(c.controller.unwrap().scheme, Scheme::Paper);
         let f = Case::load("moving-force", &[]).unwrap();
         assert_eq!(
             f.train,
@@ -1006,7 +1002,7 @@ mod tests {
         let c = Case::load("paper-4.2", &["law=gap-loop".into()]).unwrap();
         assert!(matches!(c.law, Law::GapLoop(g) if g.kp < 0.0));
         let c = Case::load("paper-4.2", &["scheme=accurate".into()]).unwrap();
-        assert_eq!(c.controller.scheme, Scheme::Accurate);
+        assert_eq!(c.controller.unwrap().scheme, Scheme::Accurate);
     }
 
     /// Every bad value is refused with the key that holds it; nothing is allocated first.

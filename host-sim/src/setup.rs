@@ -147,7 +147,11 @@ impl Passage {
             speed: case.speed,
             dt: case.dt,
             t_end: case.t_end,
-            controller: case.controller,
+            // A train without magnets runs no controller: the paper's parameters stand in
+            // (the coupling reads none of them for it).
+            controller: case
+                .controller
+                .unwrap_or_else(|| maglev_core::levitation::Params::paper_wheel(case.dt)),
             law: case.law,
             geometry: case.geometry,
             tolerance: case.tolerance,

@@ -54,7 +54,12 @@ pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioRep
         ));
     };
     let fig = fig.clone();
-    let inner = case.controller;
+    let Some(inner) = case.controller else {
+        return Err(crate::Error::invalid(
+            "controller",
+            "stability --scenario needs a [controller] section",
+        ));
+    };
     let law = case.law;
     let geometry = case.geometry;
     let v = crate::vehicle::VehicleModel::fig1(&fig, maglev_core::levitation::GRAVITY)?;
