@@ -121,6 +121,10 @@ pub struct BearingsSection {
 
 /// `[bridge.pier]`: a vertical Timoshenko column (`iz_m4` bends it laterally, `iy_m4`
 /// longitudinally; `shear_area_y_m2` lateral, `shear_area_z_m2` longitudinal shear).
+///
+/// The section keys repeat [`BridgeSection`]'s on purpose: a shared struct would need
+/// `#[serde(flatten)]`, which serde cannot combine with `deny_unknown_fields`, and refusing a
+/// misspelt key matters more than the repetition.
 #[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
