@@ -39,6 +39,11 @@ impl core::fmt::Debug for Scratch {
 }
 
 impl SparseCholesky {
+    /// faer's symbolic factor and the factor's values (for [`super::newmark::Simplicial`]).
+    pub fn parts(&self) -> (&SymbolicCholesky<usize>, &[f64]) {
+        (&self.symbolic, &self.values)
+    }
+
     /// Factorise `a`; fails if it is not positive definite.
     pub fn new(a: &SymBanded) -> crate::Result<Self> {
         let n = a.nrows();

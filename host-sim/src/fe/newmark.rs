@@ -27,13 +27,7 @@ use super::cholesky::{Scratch, SparseCholesky};
 use super::component_band::ComponentBand;
 
 use crate::Error;
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering,
-};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Par, Side};
+use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 
 /// The one-line error for a bad time step.
@@ -194,37 +188,11 @@ pub struct Simplicial {
 }
 
 impl Simplicial {
-    /// Factorise `a` exactly as [`SparseCholesky::new`] does (same faer calls, hence the same
-    /// factor); `None` if faer chooses a supernodal factor or the factorisation fails.
-    pub fn new(a: &SymBanded) -> Option<Self> {
-        let n = a.nrows();
-        let triplets: Vec<Triplet<usize, usize, f64>> = a
-            .lower_entries()
-            .map(|(i, j, v)| Triplet::new(i, j, v))
-            .collect();
-        let csc = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets).ok()?;
-        let symbolic = factorize_symbolic_cholesky(
-            csc.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            CholeskySymbolicParams::default(),
-        )
-        .ok()?;
-        let mut values = vec![0.0; symbolic.len_val()];
-        let mut buf = MemBuffer::new(
-            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
-        );
-        symbolic
-            .factorize_numeric_llt(
-                &mut values,
-                csc.as_ref(),
-                Side::Lower,
-                LltRegularization::default(),
-                Par::Seq,
-                MemStack::new(&mut buf),
-                Default::default(),
-            )
-            .ok()?;
+    /// The columns of `factor` (faer's own factor, read, not recomputed); `None` if faer chose
+    /// a supernodal factor.
+    pub fn new(factor: &SparseCholesky) -> Option<Self> {
+        let (symbolic, values) = factor.parts();
+        let n = symbolic.nrows();
         let SymbolicCholeskyRaw::Simplicial(simp) = symbolic.raw() else {
             return None;
         };
@@ -304,10 +272,10 @@ impl SpanNewmark {
             keff = keff.combine(1.0, c, 2.0 / dt);
         }
         let components = keff.components();
-        let fast = Simplicial::new(&keff);
         let band = ComponentBand::new(&keff);
         let keff = SparseCholesky::new(&keff)
             .map_err(|e| Error::numerical(format!("effective stiffness: {e}")))?;
+        let fast = Simplicial::new(&keff);
         let band = band.filter(|b| b.stored() <= 3 * keff.factor_nonzeros());
         let bands = match &c {
             Some(c) => ComponentProduct::new(&components, &[m, c]),
