@@ -114,10 +114,9 @@ impl SymBanded {
         })
     }
 
-    /// The decoupled components of the matrix graph (union-find over the stored non-zeros):
-    /// each component's members in ascending order, components in order of their first
-    /// member. A straight span's axial, torsion and two bending families come out as four.
-    pub fn components(&self) -> Vec<Vec<usize>> {
+    /// The decoupled components of the matrix graph (union-find over the stored non-zeros).
+    /// A straight span's axial, torsion and two bending families come out as four.
+    pub fn components(&self) -> Components {
         let n = self.n;
         let mut parent: Vec<usize> = (0..n).collect();
         fn root(parent: &mut [usize], mut i: usize) -> usize {
@@ -143,12 +142,47 @@ impl SymBanded {
             }
             members[index_of_root[r]].push(i);
         }
-        members
+        Components::from_members(members)
     }
 
     /// A dense copy (for small systems and checks only: O(n²) memory).
     pub fn to_dense(&self) -> DMatrix<f64> {
         DMatrix::from_fn(self.n, self.n, |i, j| self.get(i, j))
+    }
+}
+
+/// Decoupled components of a matrix's DOFs ([`SymBanded::components`]): each component's
+/// members in ascending order, components in order of their first member, and for each DOF
+/// its component and its index within it. The one description the component solvers and
+/// products ([`super::component_band`], [`ComponentProduct`], [`super::flexibility`]) share.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Components {
+    pub members: Vec<Vec<usize>>,
+    pub component: Vec<usize>,
+    pub local: Vec<usize>,
+}
+
+impl Components {
+    /// From the members of each component (together, every DOF `0..n` once).
+    pub fn from_members(members: Vec<Vec<usize>>) -> Self {
+        let n = members.iter().map(Vec::len).sum();
+        let (mut component, mut local) = (vec![usize::MAX; n], vec![0; n]);
+        for (c, m) in members.iter().enumerate() {
+            for (k, &i) in m.iter().enumerate() {
+                component[i] = c;
+                local[i] = k;
+            }
+        }
+        Components {
+            members,
+            component,
+            local,
+        }
+    }
+
+    /// Number of DOFs.
+    pub fn dofs(&self) -> usize {
+        self.component.len()
     }
 }
 
@@ -238,15 +272,9 @@ pub struct ComponentProduct {
 impl ComponentProduct {
     /// The layout of `components` for `mats` (every matrix's non-zeros must lie within the
     /// components); `None` if some row is wider than [`PRODUCT_MAX_BAND`] in its component.
-    pub fn new(components: &[Vec<usize>], mats: &[&SymBanded]) -> Option<Self> {
-        let n: usize = components.iter().map(Vec::len).sum();
-        let (mut comp, mut local) = (vec![usize::MAX; n], vec![0; n]);
-        for (c, members) in components.iter().enumerate() {
-            for (k, &i) in members.iter().enumerate() {
-                comp[i] = c;
-                local[i] = k;
-            }
-        }
+    pub fn new(components: &Components, mats: &[&SymBanded]) -> Option<Self> {
+        let n = components.dofs();
+        let (comp, local) = (&components.component, &components.local);
         let mut b = 1;
         for a in mats {
             assert_eq!(a.nrows(), n, "dimension mismatch");
@@ -263,7 +291,7 @@ impl ComponentProduct {
         let w = 2 * b + 1;
         let (mut orig, mut pos) = (Vec::with_capacity(n), Vec::with_capacity(n));
         let mut next = b;
-        for members in components {
+        for members in &components.members {
             for &i in members {
                 orig.push(i);
                 pos.push(next);
@@ -276,7 +304,7 @@ impl ComponentProduct {
             .map(|a| {
                 let mut r = vec![0.0; n * w];
                 for (s, &i) in orig.iter().enumerate() {
-                    let members = &components[comp[i]];
+                    let members = &components.members[comp[i]];
                     for t in 0..w {
                         let l = (local[i] + t).checked_sub(b);
                         if let Some(&j) = l.and_then(|l| members.get(l)) {
@@ -434,7 +462,8 @@ mod tests {
             coupled.add_lower(j, j, 2.0);
         }
         coupled.add_lower(1, 0, 0.5);
-        assert!(ComponentProduct::new(&[vec![0, 2], vec![1, 3]], &[&coupled]).is_none());
+        let split = Components::from_members(vec![vec![0, 2], vec![1, 3]]);
+        assert!(ComponentProduct::new(&split, &[&coupled]).is_none());
     }
 
     /// The band product against the dense product of the same entries, for a band that is

@@ -91,8 +91,6 @@ struct Span {
     /// gathered again when `rows_dirty`.
     rows: Option<HotRows>,
     rows_dirty: bool,
-    /// Scratch of the hot elements' values, 12 per element.
-    hot_values: Vec<f64>,
 }
 
 impl Span {
@@ -143,13 +141,8 @@ impl Span {
                 }
                 match &mut self.rows {
                     Some(rows) if rows.is_ready() => {
-                        let values = &mut self.hot_values[..ELEMENT_DOFS * self.hot.len()];
+                        let values = self.hot.iter_mut().flat_map(|(_, de)| de.iter_mut());
                         rows.eval(support, free, load, values);
-                        for ((_, de), v) in
-                            self.hot.iter_mut().zip(values.chunks_exact(ELEMENT_DOFS))
-                        {
-                            de.as_mut_slice().copy_from_slice(v);
-                        }
                     }
                     _ => {
                         for (e, de) in &mut self.hot {
@@ -296,7 +289,7 @@ impl FeGuideway {
                     let newmark = SpanNewmark::new(&model.k, &model.m, damping, dt)?;
                     let static_factor = model.stiffness_factor()?;
                     let mut scratch = newmark.factor().scratch();
-                    let flex = Flexibility::new(model.free_dofs(), newmark.components(), |x| {
+                    let flex = Flexibility::new(newmark.components(), |x| {
                         newmark.solve_in_place_slice(x, &mut scratch)
                     });
                     systems.push(SpanSystem {
@@ -334,14 +327,6 @@ impl FeGuideway {
                     .as_ref()
                     .map(|f| HotRows::new(f, ELEMENT_DOFS * elements_per_span)),
                 rows_dirty: true,
-                hot_values: vec![
-                    0.0;
-                    if sys.flex.is_some() {
-                        ELEMENT_DOFS * elements_per_span
-                    } else {
-                        0
-                    }
-                ],
                 mid: (
                     sys.model.length / 2.0,
                     sys.model.shape_at(sys.model.length / 2.0, 0.0, 0.0),

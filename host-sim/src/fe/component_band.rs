@@ -51,13 +51,8 @@ impl ComponentBand {
     /// is not positive definite.
     pub fn new(a: &SymBanded) -> Option<Self> {
         let n = a.nrows();
-        let members = a.components();
-        let mut local = vec![0; n];
-        for m in &members {
-            for (k, &i) in m.iter().enumerate() {
-                local[i] = k;
-            }
-        }
+        let c = a.components();
+        let (members, local) = (c.members, c.local);
         let b = a
             .lower_entries()
             .map(|(i, j, _)| local[i].abs_diff(local[j]))

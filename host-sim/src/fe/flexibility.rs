@@ -18,6 +18,8 @@
 //! [`MAX_DOFS`] free DOFs (the §4.2 span has 119, a §5 girder of 16 elements 95); larger
 //! spans keep one solve per iteration.
 
+use super::banded::Components;
+
 /// The largest span (free DOFs) given a dense flexibility: at most 1200² words (11.5 MB;
 /// the blocks of the components hold less).
 pub const MAX_DOFS: usize = 1200;
@@ -35,27 +37,16 @@ pub struct Flexibility {
 }
 
 impl Flexibility {
-    /// The inverse of an n×n matrix with decoupled `components` (as from
-    /// [`super::SymBanded::components`]), `solve` doing x ← A⁻¹ x. `None` above
-    /// [`MAX_DOFS`].
-    pub fn new(
-        n: usize,
-        components: &[Vec<usize>],
-        mut solve: impl FnMut(&mut [f64]),
-    ) -> Option<Self> {
+    /// The inverse of a matrix with decoupled `components`, `solve` doing x ← A⁻¹ x. `None`
+    /// above [`MAX_DOFS`].
+    pub fn new(components: &Components, mut solve: impl FnMut(&mut [f64])) -> Option<Self> {
+        let n = components.dofs();
         if n > MAX_DOFS {
             return None;
         }
-        let mut component = vec![0; n];
-        let mut local = vec![0; n];
-        for (c, members) in components.iter().enumerate() {
-            for (k, &i) in members.iter().enumerate() {
-                component[i] = c;
-                local[i] = k;
-            }
-        }
         let mut x = vec![0.0; n];
         let blocks = components
+            .members
             .iter()
             .map(|members| {
                 let m = members.len();
@@ -73,9 +64,9 @@ impl Flexibility {
             .collect();
         Some(Flexibility {
             n,
-            component,
-            local,
-            members: components.to_vec(),
+            component: components.component.clone(),
+            local: components.local.clone(),
+            members: components.members.clone(),
             blocks,
         })
     }
@@ -239,13 +230,13 @@ impl HotRows {
     }
 
     /// Gather the rows of the DOFs `dofs` (free indices, `None` for a supported DOF) over
-    /// `support`; false (and unusable) if they would exceed the reserved storage.
+    /// `support`; unusable ([`Self::is_ready`] false) if they would exceed the storage.
     pub fn build(
         &mut self,
         flex: &Flexibility,
         support: &LoadSupport,
         dofs: impl Iterator<Item = Option<usize>>,
-    ) -> bool {
+    ) {
         self.index.clear();
         self.rows.clear();
         let mut next = 0;
@@ -256,7 +247,7 @@ impl HotRows {
         self.ok = false;
         for i in dofs {
             if self.index.len() == self.index.capacity() {
-                return false;
+                return;
             }
             let Some(i) = i else {
                 self.index.push((None, 0, 0, 0));
@@ -265,7 +256,7 @@ impl HotRows {
             let c = flex.component[i];
             let list = &support.lists[c];
             if self.rows.len() + list.len() > Self::CAP {
-                return false;
+                return;
             }
             let (block, m, il) = (&flex.blocks[c], flex.members[c].len(), flex.local[i]);
             self.index
@@ -274,7 +265,6 @@ impl HotRows {
                 .extend(list.iter().map(|&(_, jl)| block[jl * m + il]));
         }
         self.ok = true;
-        true
     }
 
     /// Built and usable.
@@ -282,14 +272,21 @@ impl HotRows {
         self.ok
     }
 
-    /// `out[k]` = [`Flexibility::response_at`] at the k-th DOF of [`Self::build`] (0 where
-    /// supported), for this iteration's `load` on the same support.
-    pub fn eval(&mut self, support: &LoadSupport, free: &[f64], load: &[f64], out: &mut [f64]) {
+    /// The k-th value of `out` (its elements' DOFs in order) = [`Flexibility::response_at`]
+    /// at the k-th DOF of [`Self::build`] (0 where supported), for this iteration's `load` on
+    /// the same support.
+    pub fn eval<'a>(
+        &mut self,
+        support: &LoadSupport,
+        free: &[f64],
+        load: &[f64],
+        out: impl Iterator<Item = &'a mut f64>,
+    ) {
         self.loads.clear();
         for list in &support.lists {
             self.loads.extend(list.iter().map(|&(j, _)| load[j]));
         }
-        for (o, &(i, row, at, len)) in out.iter_mut().zip(&self.index) {
+        for (o, &(i, row, at, len)) in out.zip(&self.index) {
             let Some(i) = i else {
                 *o = 0.0;
                 continue;
@@ -325,9 +322,8 @@ mod tests {
         let faer = SparseCholesky::new(&keff).unwrap();
         let mut scratch = faer.scratch();
         let components = keff.components();
-        assert_eq!(components.len(), 4);
-        let flex =
-            Flexibility::new(n, &components, |x| faer.solve_in_place(x, &mut scratch)).unwrap();
+        assert_eq!(components.members.len(), 4);
+        let flex = Flexibility::new(&components, |x| faer.solve_in_place(x, &mut scratch)).unwrap();
         let dense = keff.to_dense();
         let z = nalgebra::DMatrix::from_fn(n, n, |i, j| flex.entry(i, j));
         let mut x = vec![0.0; n];
@@ -375,9 +371,10 @@ mod tests {
             .flat_map(|&e| model.element_free(e).to_vec())
             .collect();
         let mut rows = HotRows::new(&flex, dofs.len());
-        assert!(rows.build(&flex, &support, dofs.iter().copied()));
+        rows.build(&flex, &support, dofs.iter().copied());
+        assert!(rows.is_ready());
         let mut out = vec![f64::NAN; dofs.len()];
-        rows.eval(&support, &free, &load, &mut out);
+        rows.eval(&support, &free, &load, out.iter_mut());
         for (o, d) in out.iter().zip(&dofs) {
             let want = d.map_or(0.0, |i| flex.response_at(&support, &free, &load, i));
             assert_eq!(o.to_bits(), want.to_bits());

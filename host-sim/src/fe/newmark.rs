@@ -22,7 +22,7 @@
 //! order, so giving the same bits (test `simplicial_solve_gives_faers_bits`). A factor that
 //! faer stores supernodally keeps faer's solve.
 
-use super::banded::{ComponentProduct, SymBanded, SymSparse, ToDense};
+use super::banded::{ComponentProduct, Components, SymBanded, SymSparse, ToDense};
 use super::cholesky::{Scratch, SparseCholesky};
 use super::component_band::ComponentBand;
 
@@ -172,7 +172,7 @@ pub struct SpanNewmark {
     /// and is not larger than three times faer's (module docs).
     band: Option<ComponentBand>,
     /// Keff's decoupled components.
-    components: Vec<Vec<usize>>,
+    components: Components,
 }
 
 /// A simplicial LLᵀ factor `P A Pᵀ = L Lᵀ` of faer's, for its solve in faer's order of
@@ -383,13 +383,8 @@ impl SpanNewmark {
     }
 
     /// The decoupled components of Keff ([`SymBanded::components`]).
-    pub fn components(&self) -> &[Vec<usize>] {
+    pub fn components(&self) -> &Components {
         &self.components
-    }
-
-    /// The solve runs through a [`ComponentBand`] factor.
-    pub fn has_band_solve(&self) -> bool {
-        self.band.is_some()
     }
 
     /// x ← Keff⁻¹ x by faer's own solve (the reference of the fast path's test).
