@@ -225,14 +225,26 @@ impl SpanModel {
     }
 
     /// Element `e`'s 12 DOFs with `value(free index)` (supported DOFs are zero).
-    pub fn gather_with(&self, e: usize, mut value: impl FnMut(usize) -> f64) -> ElementVector<f64> {
+    pub fn gather_with(&self, e: usize, value: impl FnMut(usize) -> f64) -> ElementVector<f64> {
+        self.gather_where(e, |_| true, value)
+    }
+
+    /// As [`Self::gather_with`] on the element DOFs `k` (0..12) with `keep(k)` only; the
+    /// others are zero.
+    pub fn gather_where(
+        &self,
+        e: usize,
+        keep: impl Fn(usize) -> bool,
+        mut value: impl FnMut(usize) -> f64,
+    ) -> ElementVector<f64> {
         let base = e * DOFS_PER_NODE;
         let mut out = ElementVector::zeros();
-        for (o, i) in out
+        for (k, (o, i)) in out
             .iter_mut()
             .zip(&self.free_index[base..base + ELEMENT_DOFS])
+            .enumerate()
         {
-            if let Some(f) = *i {
+            if let (Some(f), true) = (*i, keep(k)) {
                 *o = value(f);
             }
         }

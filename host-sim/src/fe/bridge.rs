@@ -10,16 +10,19 @@
 //! The step (docs/model.md §7, Eq. 19) is linear in the wheel loads: d₁ = Keff⁻¹ (r + F) with r
 //! the load-free right-hand side from the committed state. Each span therefore computes r
 //! once per step (on the first [`Guideway::solve_step`] after a commit). On a span small
-//! enough to hold Keff⁻¹ densely ([`Flexibility`], the §4.2 and §5 spans) the free response
-//! Keff⁻¹ r is solved once per step too, and a Newton–Raphson iteration solves nothing: a
-//! query reads d_free + Keff⁻¹ F on the 12 DOFs of its element only, and the whole d₁ is
-//! formed on commit. Where the loads cover more than half of a span's DOFs (a train's
-//! axles on every element), on spans too large for the dense columns, and in a step after one
-//! that took a single `solve_step` (constant moving forces: there the direct solve is the one
-//! solve, the columns a second), each iteration instead costs one sparse forward/back
-//! substitution of r + F on the *loaded* spans (an unloaded span's response is solved once per
-//! step and kept). Velocity and acceleration are
-//! completed once, on commit. Nothing in the time loop allocates.
+//! enough to hold Keff⁻¹ densely ([`Flexibility`], the §4.2 and §5 spans) the state is held
+//! in the span's modal coordinates ([`ModalBasis`]: Keff, M and a Rayleigh C diagonal), so
+//! the free response is a few operations a mode, and a Newton–Raphson iteration solves
+//! nothing: a query reads d_free + Keff⁻¹ F on the 12 DOFs of its element only (d_free = Φ
+//! q_free there), and the modal q₁ = q_free + Φᵀ F is formed on commit. Physical
+//! displacements are formed only where queried ([`FeGuideway::trial_state`] forms them all).
+//! Where the loads cover more than half of a span's DOFs (a train's axles on every element)
+//! and in a step after one that took a single `solve_step` (constant moving forces), such a
+//! span forms q₁ = q_free + Φᵀ F at each iteration instead. Spans too large for the dense
+//! blocks keep physical coordinates, and each iteration costs one sparse forward/back
+//! substitution of r + F on the *loaded* spans (an unloaded span's response is solved once
+//! per step and kept). Velocity and acceleration are completed once, on commit. Nothing in
+//! the time loop allocates.
 //!
 //! Wheel loads and guideway motion use the paper's cubic Hermite interpolation (Eq. 15, 16,
 //! via [`maglev_core::gap::WheelShape`]), not the Timoshenko element's own shear-dependent
@@ -31,12 +34,14 @@
 use super::assembly::SpanModel;
 use super::cholesky::{Scratch, SparseCholesky};
 use super::flexibility::{Flexibility, HotRows, LoadSupport};
-use super::newmark::{Rayleigh, SpanNewmark, State};
+use super::modal_basis::ModalBasis;
+use super::newmark::{effective_stiffness, rayleigh_matrix, Rayleigh, SpanNewmark, State};
 use crate::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
 use crate::Error;
 use maglev_core::gap::{ElementVector, WheelShape, ELEMENT_DOFS};
 use nalgebra::DVector;
 use rayon::prelude::*;
+use std::cell::OnceCell;
 
 /// One distinct span model with its integrator and static factor.
 #[derive(Debug)]
@@ -46,6 +51,8 @@ struct SpanSystem {
     static_factor: SparseCholesky,
     /// Keff⁻¹ by columns, for spans of at most [`super::flexibility::MAX_DOFS`] DOFs.
     flex: Option<Flexibility>,
+    /// The modal basis of those spans: their state is then held in modal coordinates.
+    modal: Option<ModalBasis>,
 }
 
 /// Per-span state and preallocated work space.
@@ -53,9 +60,15 @@ struct SpanSystem {
 struct Span {
     start: f64,
     system: usize,
+    /// Physical, or modal on a span with a [`ModalBasis`] (as are `trial`, `rhs_free` and
+    /// `free_solved`'s free response, which is then `rhs_free` itself).
     committed: State,
     /// Trial state: `d` after each [`Guideway::solve_step`]; `v` and `a` completed on commit.
     trial: State,
+    /// The physical trial state of a modal span, formed on request ([`FeGuideway::trial_state`]).
+    phys: State,
+    /// `free` holds the free response at the hot elements' DOFs (modal spans).
+    free_hot: bool,
     /// Nodal loads of the current iteration (Eq. 15).
     load: DVector<f64>,
     /// The step's load-free right-hand side (valid when `free_valid`).
@@ -84,9 +97,15 @@ struct Span {
     /// The midspan section's element and rows (the probes' and records' query), by its
     /// span-local x.
     mid: (f64, Option<(usize, WheelShape<f64>)>),
+    /// The midspan element's trial displacement once queried (records and probes read it
+    /// after each commit; on a modal span each read is a product with Φ's rows).
+    mid_value: OnceCell<ElementVector<f64>>,
     /// The loaded elements of the current iteration and, when `lazy`, their trial
     /// displacement (the queries of a coupling loop fall on them; flexibility spans).
     hot: Vec<(usize, ElementVector<f64>)>,
+    /// `hot` holds the trial displacement of its elements (set by the iterations that use
+    /// the columns, kept through the commit: the queries after it read them too).
+    hot_valid: bool,
     /// Keff⁻¹'s rows at the hot elements' DOFs over the support (flexibility spans), to be
     /// gathered again when `rows_dirty`.
     rows: Option<HotRows>,
@@ -96,6 +115,8 @@ struct Span {
 impl Span {
     /// The trial displacement for this iteration's loads (module docs).
     fn advance(&mut self, sys: &SpanSystem, columns: bool) {
+        self.hot_valid = false;
+        self.mid_value.take();
         if self.committed_at_rest && !self.loaded {
             if !self.trial_at_rest {
                 self.trial.d.fill(0.0);
@@ -108,6 +129,9 @@ impl Span {
         if !self.free_valid {
             if self.committed_at_rest {
                 self.rhs_free.fill(0.0);
+            } else if let Some(modal) = &sys.modal {
+                let dt = sys.newmark.time_step();
+                modal.free_response(dt, &self.committed, self.rhs_free.as_mut_slice());
             } else {
                 sys.newmark
                     .free_rhs(&self.committed, &mut self.pred, &mut self.rhs_free);
@@ -121,14 +145,16 @@ impl Span {
             // The columns pay while the loads cover at most half the DOFs (module docs).
             if 2 * support.len() <= flex.nrows() {
                 if !self.free_solved {
-                    self.free
-                        .as_mut_slice()
-                        .copy_from_slice(self.rhs_free.as_slice());
-                    sys.newmark
-                        .solve_in_place(&mut self.free, &mut self.scratch);
+                    if sys.modal.is_none() {
+                        self.free
+                            .as_mut_slice()
+                            .copy_from_slice(self.rhs_free.as_slice());
+                        sys.newmark
+                            .solve_in_place(&mut self.free, &mut self.scratch);
+                    }
                     self.free_solved = true;
+                    self.free_hot = false;
                 }
-                let (free, load) = (self.free.as_slice(), self.load.as_slice());
                 if let Some(rows) = &mut self.rows {
                     if self.rows_dirty {
                         let dofs = self
@@ -137,8 +163,20 @@ impl Span {
                             .flat_map(|&(e, _)| sys.model.element_free(e).iter().copied());
                         rows.build(flex, support, dofs);
                         self.rows_dirty = false;
+                        self.free_hot = false;
                     }
                 }
+                if let (Some(modal), false) = (&sys.modal, self.free_hot) {
+                    // The physical free response where the iterations read it: Φ q_free.
+                    let (q, free) = (self.rhs_free.as_slice(), self.free.as_mut_slice());
+                    for &(e, _) in &self.hot {
+                        for &f in sys.model.element_free(e).iter().flatten() {
+                            free[f] = modal.value_at(q, f);
+                        }
+                    }
+                    self.free_hot = true;
+                }
+                let (free, load) = (self.free.as_slice(), self.load.as_slice());
                 match &mut self.rows {
                     Some(rows) if rows.is_ready() => {
                         let values = self.hot.iter_mut().flat_map(|(_, de)| de.iter_mut());
@@ -153,9 +191,22 @@ impl Span {
                     }
                 }
                 self.lazy = true;
+                self.hot_valid = true;
                 self.trial_is_free = false;
                 return;
             }
+        }
+        if let Some(modal) = &sys.modal {
+            // Keff is the identity in modal coordinates: q₁ = q_free + Φᵀ F.
+            if self.loaded {
+                self.trial.d.copy_from(&self.rhs_free);
+                modal.add_loads(self.load.as_slice(), self.trial.d.as_mut_slice());
+                self.trial_is_free = false;
+            } else if !self.trial_is_free {
+                self.trial.d.copy_from(&self.rhs_free);
+                self.trial_is_free = true;
+            }
+            return;
         }
         if self.loaded {
             // d = r + F (nalgebra's `copy_from` and `+=` as slice loops: the same additions).
@@ -179,34 +230,75 @@ impl Span {
     /// Form `trial.d` if it is held as free response plus flexibility.
     fn materialise(&mut self, sys: &SpanSystem) {
         if let (true, Some(flex), Some(support)) = (self.lazy, &sys.flex, &mut self.support) {
-            flex.complete(
-                support,
-                self.free.as_slice(),
-                self.load.as_slice(),
-                self.trial.d.as_mut_slice(),
-            );
+            match &sys.modal {
+                Some(modal) => {
+                    self.trial.d.copy_from(&self.rhs_free);
+                    let (load, q) = (self.load.as_slice(), self.trial.d.as_mut_slice());
+                    for j in support.dofs() {
+                        modal.add_load(j, load[j], q);
+                    }
+                }
+                None => flex.complete(
+                    support,
+                    self.free.as_slice(),
+                    self.load.as_slice(),
+                    self.trial.d.as_mut_slice(),
+                ),
+            }
             self.lazy = false;
         }
     }
 
     /// Trial displacement on element `e`'s 12 DOFs.
     fn element(&self, sys: &SpanSystem, e: usize) -> ElementVector<f64> {
+        self.element_where(sys, e, |_| true)
+    }
+
+    /// [`Self::element`] on the element DOFs `k` with `keep(k)` (the others zero, or as
+    /// stored for a hot element).
+    fn element_where(
+        &self,
+        sys: &SpanSystem,
+        e: usize,
+        keep: impl Fn(usize) -> bool,
+    ) -> ElementVector<f64> {
+        if self.hot_valid {
+            if let Some((_, de)) = self.hot.iter().find(|h| h.0 == e) {
+                return *de;
+            }
+        }
         match (self.lazy, &sys.flex, &self.support) {
             (true, Some(flex), Some(support)) => {
-                if let Some((_, de)) = self.hot.iter().find(|h| h.0 == e) {
-                    return *de;
-                }
                 let (free, load) = (self.free.as_slice(), self.load.as_slice());
-                sys.model
-                    .gather_with(e, |f| flex.response_at(support, free, load, f))
+                match &sys.modal {
+                    Some(modal) => {
+                        let q = self.rhs_free.as_slice();
+                        sys.model.gather_where(e, keep, |f| {
+                            flex.response_with(support, modal.value_at(q, f), load, f)
+                        })
+                    }
+                    None => sys
+                        .model
+                        .gather_where(e, keep, |f| flex.response_at(support, free, load, f)),
+                }
             }
-            _ => sys.model.gather(&self.trial.d, e),
+            _ => match &sys.modal {
+                Some(modal) => {
+                    let q = self.trial.d.as_slice();
+                    sys.model.gather_where(e, keep, |f| modal.value_at(q, f))
+                }
+                None => {
+                    let d = self.trial.d.as_slice();
+                    sys.model.gather_where(e, keep, |f| d[f])
+                }
+            },
         }
     }
 
     /// Accept the trial displacement; complete velocity and acceleration.
     fn commit(&mut self, sys: &SpanSystem) {
         self.materialise(sys);
+        self.mid_value.take();
         // A trial at rest implies a committed state at rest (see `advance`): nothing to do.
         if !self.trial_at_rest {
             sys.newmark.finish(&mut self.committed, &mut self.trial);
@@ -286,17 +378,24 @@ impl FeGuideway {
                 Some(i) => i,
                 None => {
                     let model = SpanModel::new(&bridge.section, length, elements_per_span)?;
-                    let newmark = SpanNewmark::new(&model.k, &model.m, damping, dt)?;
+                    let (k, m) = (&model.k, &model.m);
+                    let c = damping.map(|r| rayleigh_matrix(k, m, r));
+                    let newmark = SpanNewmark::with_damping_matrix(k, m, c.clone(), dt)?;
                     let static_factor = model.stiffness_factor()?;
                     let mut scratch = newmark.factor().scratch();
                     let flex = Flexibility::new(newmark.components(), |x| {
                         newmark.solve_in_place_slice(x, &mut scratch)
+                    });
+                    let modal = flex.as_ref().and_then(|_| {
+                        let keff = effective_stiffness(k, m, c.as_ref(), dt);
+                        ModalBasis::new(newmark.components(), k, &keff, m, c.as_ref())
                     });
                     systems.push(SpanSystem {
                         model,
                         newmark,
                         static_factor,
                         flex,
+                        modal,
                     });
                     systems.len() - 1
                 }
@@ -308,6 +407,8 @@ impl FeGuideway {
                 system,
                 committed: State::zeros(n),
                 trial: State::zeros(n),
+                phys: State::zeros(if sys.modal.is_some() { n } else { 0 }),
+                free_hot: false,
                 load: DVector::zeros(n),
                 rhs_free: DVector::zeros(n),
                 pred: DVector::zeros(sys.newmark.pred_len()),
@@ -327,6 +428,8 @@ impl FeGuideway {
                     .as_ref()
                     .map(|f| HotRows::new(f, ELEMENT_DOFS * elements_per_span)),
                 rows_dirty: true,
+                hot_valid: false,
+                mid_value: OnceCell::new(),
                 mid: (
                     sys.model.length / 2.0,
                     sys.model.shape_at(sys.model.length / 2.0, 0.0, 0.0),
@@ -372,6 +475,7 @@ impl FeGuideway {
                     + s.newmark.storage_words()
                     + s.static_factor.factor_nonzeros()
                     + s.flex.as_ref().map_or(0, Flexibility::stored)
+                    + s.modal.as_ref().map_or(0, ModalBasis::stored)
             })
             .sum();
         let spans: usize = self.spans.iter().map(|s| 10 * s.load.len()).sum();
@@ -399,8 +503,18 @@ impl FeGuideway {
     /// the trial equals the committed state).
     pub fn trial_state(&mut self, i: usize) -> &State {
         let span = &mut self.spans[i];
-        span.materialise(&self.systems[span.system]);
-        &span.trial
+        let sys = &self.systems[span.system];
+        span.materialise(sys);
+        match &sys.modal {
+            Some(modal) => {
+                let (t, p) = (&span.trial, &mut span.phys);
+                modal.to_physical(t.d.as_slice(), p.d.as_mut_slice());
+                modal.to_physical(t.v.as_slice(), p.v.as_mut_slice());
+                modal.to_physical(t.a.as_slice(), p.a.as_mut_slice());
+                &span.phys
+            }
+            None => &span.trial,
+        }
     }
 
     /// The span containing global `x` and the span-local coordinate, `None` off the bridge.
@@ -464,6 +578,7 @@ impl FeGuideway {
                     support.clear();
                 }
                 s.hot.clear();
+                s.hot_valid = false;
                 s.loaded = false;
                 s.tracking = false;
                 s.rows_dirty = true;
@@ -605,7 +720,11 @@ impl Guideway for FeGuideway {
                 let sys = &self.systems[span.system];
                 match span.mid {
                     (mid, Some((e, ref s))) if mid == local => {
-                        let de = span.element(sys, e);
+                        // At a node only that node's translations and twist count.
+                        let used = |k: usize| s.z[k] != 0.0 || s.y[k] != 0.0 || s.rx[k] != 0.0;
+                        let de = *span
+                            .mid_value
+                            .get_or_init(|| span.element_where(sys, e, used));
                         Some(SectionMotion {
                             y: s.y_at(&de),
                             z: s.z_at(&de),

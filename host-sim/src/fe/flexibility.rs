@@ -94,13 +94,18 @@ impl Flexibility {
     /// component in the order they were added, then added to `free[i]` (as in
     /// [`Self::complete`], so both give the same bits).
     pub fn response_at(&self, support: &LoadSupport, free: &[f64], load: &[f64], i: usize) -> f64 {
+        self.response_with(support, free[i], load, i)
+    }
+
+    /// [`Self::response_at`] with the free response at DOF `i` given as `free_i`.
+    pub fn response_with(&self, support: &LoadSupport, free_i: f64, load: &[f64], i: usize) -> f64 {
         let c = self.component[i];
         let (block, m, il) = (&self.blocks[c], self.members[c].len(), self.local[i]);
         let mut acc = 0.0;
         for &(j, jl) in &support.lists[c] {
             acc += block[jl * m + il] * load[j];
         }
-        free[i] + acc
+        free_i + acc
     }
 
     /// `out = free + Z·load` over every loaded DOF: the whole d₁, with the sums of
@@ -184,6 +189,11 @@ impl LoadSupport {
                 load[j] = 0.0;
             }
         }
+    }
+
+    /// The loaded DOFs, component by component, each in the order first loaded.
+    pub fn dofs(&self) -> impl Iterator<Item = usize> + '_ {
+        self.lists.iter().flat_map(|l| l.iter().map(|&(j, _)| j))
     }
 
     /// Record DOF `j` as loaded (once).

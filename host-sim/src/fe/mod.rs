@@ -10,6 +10,7 @@
 //! - [`assembly`]: one span, supports, load distribution and interpolation;
 //! - [`newmark`]: average-acceleration Newmark with a once-factorised effective stiffness;
 //! - [`flexibility`]: a small span's Keff⁻¹ by columns, so iterations query without solving;
+//! - [`modal_basis`]: a small span's step in the coordinates that diagonalise it;
 //! - [`bridge`]: [`FeGuideway`], a whole [`crate::guideway::Bridge`] behind the
 //!   [`crate::guideway::Guideway`] interface;
 //! - [`modes`]: natural frequencies and mode kinds;
@@ -42,6 +43,7 @@ pub mod cholesky;
 pub mod component_band;
 pub mod element;
 pub mod flexibility;
+pub mod modal_basis;
 pub mod modes;
 pub mod newmark;
 pub mod soil;

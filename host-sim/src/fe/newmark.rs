@@ -252,7 +252,7 @@ impl SpanNewmark {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(time_step_error(dt));
         }
-        let c = damping.map(|r| m.combine(r.alpha, k, r.beta));
+        let c = damping.map(|r| rayleigh_matrix(k, m, r));
         Self::with_damping_matrix(k, m, c, dt)
     }
 
@@ -267,10 +267,7 @@ impl SpanNewmark {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(time_step_error(dt));
         }
-        let mut keff = k.combine(1.0, m, 4.0 / (dt * dt));
-        if let Some(c) = &c {
-            keff = keff.combine(1.0, c, 2.0 / dt);
-        }
+        let keff = effective_stiffness(k, m, c.as_ref(), dt);
         let components = keff.components();
         let band = ComponentBand::new(&keff);
         let keff = SparseCholesky::new(&keff)
@@ -400,6 +397,25 @@ impl SpanNewmark {
     /// Complete the step ([`complete_step`] at this span's Δt). No allocation.
     pub fn finish(&self, committed: &mut State, trial: &mut State) {
         complete_step(self.dt, committed, trial);
+    }
+}
+
+/// Rayleigh damping's matrix C = α M + β K.
+pub fn rayleigh_matrix(k: &SymBanded, m: &SymBanded, r: Rayleigh) -> SymBanded {
+    m.combine(r.alpha, k, r.beta)
+}
+
+/// The effective stiffness of the step, Keff = K + (4/Δt²) M + (2/Δt) C (Eq. 19).
+pub fn effective_stiffness(
+    k: &SymBanded,
+    m: &SymBanded,
+    c: Option<&SymBanded>,
+    dt: f64,
+) -> SymBanded {
+    let keff = k.combine(1.0, m, 4.0 / (dt * dt));
+    match c {
+        Some(c) => keff.combine(1.0, c, 2.0 / dt),
+        None => keff,
     }
 }
 
