@@ -16,22 +16,18 @@ use maglev_host_sim::simulation::{simulate, Load, Outcome, Profiles};
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 use qd::Quad;
 
-/// Dense reference: every span is a dense system, stepped in full at every `solve_step`.
-struct DenseFe {
-    dt: f64,
+/// What both references share: the span model, the spans' starts, the dense K and M
+/// assembled from the element matrices, the loads' distribution (Eq. 15) and the queries
+/// (Eq. 16).
+struct Layout {
     model: SpanModel,
+    starts: Vec<f64>,
     k: DMatrix<f64>,
     m: DMatrix<f64>,
-    c: Option<DMatrix<f64>>,
-    keff: Cholesky<f64, Dyn>,
-    starts: Vec<f64>,
-    /// Per span (d, v, a) committed and trial.
-    committed: Vec<[DVector<f64>; 3]>,
-    trial: Vec<[DVector<f64>; 3]>,
 }
 
-impl DenseFe {
-    fn new(bridge: &Bridge, elements: usize, dt: f64, damping: Option<Rayleigh>) -> Self {
+impl Layout {
+    fn new(bridge: &Bridge, elements: usize) -> Self {
         let length = bridge.spans[0];
         assert!(
             bridge.spans.iter().all(|&l| l == length),
@@ -54,26 +50,15 @@ impl DenseFe {
                 }
             }
         }
-        let c = damping.map(|r| &m * r.alpha + &k * r.beta);
-        let mut keff = &k + &m * (4.0 / (dt * dt));
-        if let Some(c) = &c {
-            keff += c * (2.0 / dt);
-        }
-        let zero = || [DVector::zeros(n), DVector::zeros(n), DVector::zeros(n)];
         let mut starts = vec![0.0];
         for l in &bridge.spans[..bridge.spans.len() - 1] {
             starts.push(starts.last().unwrap() + l);
         }
-        DenseFe {
-            dt,
+        Layout {
             model,
+            starts,
             k,
             m,
-            c,
-            keff: Cholesky::new(keff).unwrap(),
-            committed: bridge.spans.iter().map(|_| zero()).collect(),
-            trial: bridge.spans.iter().map(|_| zero()).collect(),
-            starts,
         }
     }
 
@@ -81,6 +66,70 @@ impl DenseFe {
         let i = self.starts.partition_point(|&s| s <= x).checked_sub(1)?;
         let local = x - self.starts[i];
         (local <= self.model.length * (1.0 + 1e-12)).then(|| (i, local.min(self.model.length)))
+    }
+
+    /// Nodal loads per span (Eq. 15).
+    fn nodal_loads(&self, loads: &[PointLoad]) -> Vec<DVector<f64>> {
+        let mut f = vec![DVector::zeros(self.model.free_dofs()); self.starts.len()];
+        for p in loads {
+            if let Some((i, local)) = self.find(p.x) {
+                self.model
+                    .add_point_force(local, p.ey, p.ez, p.fy, p.fz, &mut f[i]);
+            }
+        }
+        f
+    }
+
+    /// Motion of a point for the spans' displacements `d(span)`.
+    fn motion<'a>(
+        &self,
+        d: impl Fn(usize) -> &'a DVector<f64>,
+        x: f64,
+        ey: f64,
+        ez: f64,
+    ) -> PointMotion {
+        self.find(x)
+            .and_then(|(i, l)| self.model.motion(d(i), l, ey, ez))
+            .unwrap_or_default()
+    }
+
+    /// Axis motion for the spans' displacements `d(span)`.
+    fn section<'a>(&self, d: impl Fn(usize) -> &'a DVector<f64>, x: f64) -> SectionMotion {
+        self.find(x)
+            .and_then(|(i, l)| self.model.section(d(i), l))
+            .unwrap_or_default()
+    }
+}
+
+/// Dense reference: every span is a dense system, stepped in full at every `solve_step`.
+struct DenseFe {
+    dt: f64,
+    layout: Layout,
+    c: Option<DMatrix<f64>>,
+    keff: Cholesky<f64, Dyn>,
+    /// Per span (d, v, a) committed and trial.
+    committed: Vec<[DVector<f64>; 3]>,
+    trial: Vec<[DVector<f64>; 3]>,
+}
+
+impl DenseFe {
+    fn new(bridge: &Bridge, elements: usize, dt: f64, damping: Option<Rayleigh>) -> Self {
+        let layout = Layout::new(bridge, elements);
+        let (k, m, n) = (&layout.k, &layout.m, layout.model.free_dofs());
+        let c = damping.map(|r| m * r.alpha + k * r.beta);
+        let mut keff = k + m * (4.0 / (dt * dt));
+        if let Some(c) = &c {
+            keff += c * (2.0 / dt);
+        }
+        let zero = || [DVector::zeros(n), DVector::zeros(n), DVector::zeros(n)];
+        DenseFe {
+            dt,
+            c,
+            keff: Cholesky::new(keff).unwrap(),
+            committed: bridge.spans.iter().map(|_| zero()).collect(),
+            trial: bridge.spans.iter().map(|_| zero()).collect(),
+            layout,
+        }
     }
 }
 
@@ -90,19 +139,12 @@ impl Guideway for DenseFe {
     }
 
     fn solve_step(&mut self, loads: &[PointLoad]) {
-        let n = self.model.free_dofs();
-        let mut f = vec![DVector::zeros(n); self.starts.len()];
-        for p in loads {
-            if let Some((i, local)) = self.find(p.x) {
-                self.model
-                    .add_point_force(local, p.ey, p.ez, p.fy, p.fz, &mut f[i]);
-            }
-        }
+        let f = self.layout.nodal_loads(loads);
         let dt = self.dt;
         let (a0, a1, a2) = (4.0 / (dt * dt), 2.0 / dt, 4.0 / dt);
         for (i, f) in f.into_iter().enumerate() {
             let [d, v, a] = &self.committed[i];
-            let mut rhs = f + &self.m * (d * a0 + v * a2 + a);
+            let mut rhs = f + &self.layout.m * (d * a0 + v * a2 + a);
             if let Some(c) = &self.c {
                 rhs += c * (d * a1 + v);
             }
@@ -114,15 +156,11 @@ impl Guideway for DenseFe {
     }
 
     fn motion_at(&self, x: f64, ey: f64, ez: f64) -> PointMotion {
-        self.find(x)
-            .and_then(|(i, l)| self.model.motion(&self.trial[i][0], l, ey, ez))
-            .unwrap_or_default()
+        self.layout.motion(|i| &self.trial[i][0], x, ey, ez)
     }
 
     fn section_at(&self, x: f64) -> SectionMotion {
-        self.find(x)
-            .and_then(|(i, l)| self.model.section(&self.trial[i][0], l))
-            .unwrap_or_default()
+        self.layout.section(|i| &self.trial[i][0], x)
     }
 
     fn commit(&mut self) {
@@ -140,7 +178,7 @@ impl Guideway for DenseFe {
 /// f64 implementations may differ by ~1e-13–1e-12 of the peak between themselves.
 struct PreciseFe {
     dt: f64,
-    model: SpanModel,
+    layout: Layout,
     n: usize,
     /// Half-bandwidth of K, M (and C): products and the factor stay inside it.
     b: usize,
@@ -148,7 +186,6 @@ struct PreciseFe {
     c: Option<Vec<Quad>>,
     /// Lower Cholesky factor of Keff, row-major n × n.
     l: Vec<Quad>,
-    starts: Vec<f64>,
     committed: Vec<[Vec<Quad>; 3]>,
     trial: Vec<[Vec<Quad>; 3]>,
     /// `trial` displacements rounded to f64 for the queries.
@@ -161,9 +198,9 @@ fn q(x: f64) -> Quad {
 
 impl PreciseFe {
     fn new(bridge: &Bridge, elements: usize, dt: f64, damping: Option<Rayleigh>) -> Self {
-        let f64_ref = DenseFe::new(bridge, elements, dt, damping);
-        let n = f64_ref.model.free_dofs();
-        let (k, m) = (&f64_ref.k, &f64_ref.m);
+        let layout = Layout::new(bridge, elements);
+        let n = layout.model.free_dofs();
+        let (k, m) = (&layout.k, &layout.m);
         let b = (0..n)
             .flat_map(|i| (0..n).map(move |j| (i, j)))
             .filter(|&(i, j)| k[(i, j)] != 0.0 || m[(i, j)] != 0.0)
@@ -214,11 +251,10 @@ impl PreciseFe {
             m: mq,
             c,
             l,
-            starts: f64_ref.starts.clone(),
             committed: (0..spans).map(|_| zero()).collect(),
             trial: (0..spans).map(|_| zero()).collect(),
             shown: vec![DVector::zeros(n); spans],
-            model: f64_ref.model,
+            layout,
         }
     }
 
@@ -235,12 +271,6 @@ impl PreciseFe {
             })
             .collect()
     }
-
-    fn find(&self, x: f64) -> Option<(usize, f64)> {
-        let i = self.starts.partition_point(|&s| s <= x).checked_sub(1)?;
-        let local = x - self.starts[i];
-        (local <= self.model.length * (1.0 + 1e-12)).then(|| (i, local.min(self.model.length)))
-    }
 }
 
 impl Guideway for PreciseFe {
@@ -250,13 +280,7 @@ impl Guideway for PreciseFe {
 
     fn solve_step(&mut self, loads: &[PointLoad]) {
         let (n, b) = (self.n, self.b);
-        let mut f = vec![DVector::zeros(n); self.starts.len()];
-        for p in loads {
-            if let Some((i, local)) = self.find(p.x) {
-                self.model
-                    .add_point_force(local, p.ey, p.ez, p.fy, p.fz, &mut f[i]);
-            }
-        }
+        let f = self.layout.nodal_loads(loads);
         let dtq = q(self.dt);
         let (a0, a1, a2, h) = (
             q(4.0) / (dtq * dtq),
@@ -305,19 +329,23 @@ impl Guideway for PreciseFe {
     }
 
     fn motion_at(&self, x: f64, ey: f64, ez: f64) -> PointMotion {
-        self.find(x)
-            .and_then(|(i, l)| self.model.motion(&self.shown[i], l, ey, ez))
-            .unwrap_or_default()
+        self.layout.motion(|i| &self.shown[i], x, ey, ez)
     }
 
     fn section_at(&self, x: f64) -> SectionMotion {
-        self.find(x)
-            .and_then(|(i, l)| self.model.section(&self.shown[i], l))
-            .unwrap_or_default()
+        self.layout.section(|i| &self.shown[i], x)
     }
 
     fn commit(&mut self) {
         self.committed.clone_from(&self.trial);
+    }
+}
+
+/// Spans of the §4.2 section.
+fn paper_4_2_bridge(spans: Vec<f64>) -> Bridge {
+    Bridge {
+        section: BeamSection::paper_4_2(),
+        spans,
     }
 }
 
@@ -387,10 +415,7 @@ fn errors(
 /// 1e-12 of the peak of the double-double reference.
 #[test]
 fn moving_force_matches_dense_reference() {
-    let bridge = Bridge {
-        section: BeamSection::paper_4_2(),
-        spans: vec![25.0],
-    };
+    let bridge = paper_4_2_bridge(vec![25.0]);
     let (err, f64_err) = errors(&bridge, 20, 1e-3, None, (400, 3), |n, trial| {
         let x = 0.1 * n as f64;
         if x > 25.0 {
@@ -432,10 +457,7 @@ fn one_span_force(
 /// [`PreciseFe`]).
 #[test]
 fn slow_constant_force_matches_dense_reference() {
-    let bridge = Bridge {
-        section: BeamSection::paper_4_2(),
-        spans: vec![25.0],
-    };
+    let bridge = paper_4_2_bridge(vec![25.0]);
     let load = one_span_force(0.01, (1.5, 0.6), (2e3, -36.8e3));
     let (err, f64_err) = errors(&bridge, 20, 1e-3, None, (2600, 1), |n, _| load(n));
     println!("slow constant force against double-double: FE {err:.2e}, f64 dense {f64_err:.2e} of the peak");
@@ -450,10 +472,7 @@ fn slow_constant_force_matches_dense_reference() {
 /// 1.9e-11 of the peak).
 #[test]
 fn moving_force_case_at_small_step_matches_dense_reference() {
-    let bridge = Bridge {
-        section: BeamSection::paper_4_2(),
-        spans: vec![25.0],
-    };
+    let bridge = paper_4_2_bridge(vec![25.0]);
     let load = one_span_force(0.01, (0.0, 0.0), (0.0, -36.79e3));
     let (err, f64_err) = errors(&bridge, 20, 1e-4, None, (3000, 1), |n, _| load(n));
     println!("moving-force case at 0.1 ms against double-double: FE {err:.2e}, f64 dense {f64_err:.2e} of the peak");
@@ -464,10 +483,7 @@ fn moving_force_case_at_small_step_matches_dense_reference() {
 /// elements per span, Δt = 2 ms: spans at rest, loaded, and vibrating freely all occur.
 #[test]
 fn train_over_three_damped_spans_matches_dense_reference() {
-    let bridge = Bridge {
-        section: BeamSection::paper_4_2(),
-        spans: vec![30.0; 3],
-    };
+    let bridge = paper_4_2_bridge(vec![30.0; 3]);
     let damping = Some(Rayleigh {
         alpha: 0.1,
         beta: 2e-4,
@@ -518,10 +534,7 @@ fn passage(g: &mut impl Guideway) -> Outcome {
 /// loop: midspan and wheel-1 histories and iteration counts agree with the dense reference.
 #[test]
 fn vehicle_passage_matches_dense_reference() {
-    let bridge = Bridge {
-        section: BeamSection::paper_4_2(),
-        spans: vec![25.0],
-    };
+    let bridge = paper_4_2_bridge(vec![25.0]);
     let mut fe = FeGuideway::new(&bridge, 20, 1e-3).unwrap();
     let mut dense = DenseFe::new(&bridge, 20, 1e-3, None);
     let mut precise = PreciseFe::new(&bridge, 20, 1e-3, None);
@@ -554,10 +567,7 @@ fn vehicle_passage_matches_dense_reference() {
 /// and without it (a train of 32 loads over 5 spans, three trials per step).
 #[test]
 fn parallel_spans_are_bit_identical() {
-    let bridge = Bridge {
-        section: BeamSection::paper_4_2(),
-        spans: vec![30.0; 5],
-    };
+    let bridge = paper_4_2_bridge(vec![30.0; 5]);
     let run = |parallel: bool| {
         let mut fe = FeGuideway::new(&bridge, 16, 2e-3).unwrap();
         fe.set_parallel(parallel);

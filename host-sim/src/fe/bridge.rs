@@ -10,12 +10,13 @@
 //! The step (docs/model.md §7, Eq. 19) is linear in the wheel loads: d₁ = Keff⁻¹ (r + F) with r
 //! the load-free right-hand side from the committed state. Each span therefore computes r
 //! once per step (on the first [`Guideway::solve_step`] after a commit). On a span small
-//! enough to hold Keff⁻¹ densely ([`Flexibility`], the §4.2 and §5 spans) the state is held
-//! in the span's modal coordinates ([`ModalBasis`]: Keff, M and a Rayleigh C diagonal), so
-//! the free response is a few operations a mode, and a Newton–Raphson iteration solves
-//! nothing: a query reads d_free + Keff⁻¹ F on the 12 DOFs of its element only (d_free = Φ
-//! q_free there), and the modal q₁ = q_free + Φᵀ F is formed on commit. Physical
-//! displacements are formed only where queried ([`FeGuideway::trial_state`] forms them all).
+//! enough to hold Keff⁻¹ densely ([`Flexibility`]: the §4.2 span, the forces train's 30 m
+//! spans) the state is held in the span's modal coordinates ([`ModalBasis`]: Keff, M and a
+//! Rayleigh C diagonal), so the free response is a few operations a mode, and a
+//! Newton–Raphson iteration solves nothing: a query reads d_free + Keff⁻¹ F on the 12 DOFs
+//! of its element only (d_free = Φ q_free there), and the modal q₁ = q_free + Φᵀ F is formed
+//! on commit. Physical displacements are formed only where queried
+//! ([`FeGuideway::trial_state`] forms them all).
 //! Where the loads cover more than half of a span's DOFs (a train's axles on every element)
 //! and in a step after one that took a single `solve_step` (constant moving forces), such a
 //! span forms q₁ = q_free + Φᵀ F at each iteration instead. Spans too large for the dense
@@ -49,7 +50,8 @@ struct SpanSystem {
     model: SpanModel,
     newmark: SpanNewmark,
     static_factor: SparseCholesky,
-    /// Keff⁻¹ by columns, for spans of at most [`super::flexibility::MAX_DOFS`] DOFs.
+    /// Keff⁻¹ by columns, for spans of at most [`super::flexibility::MAX_DOFS`] DOFs whose
+    /// damping is Rayleigh (or none): present together with `modal`.
     flex: Option<Flexibility>,
     /// The modal basis of those spans: their state is then held in modal coordinates.
     modal: Option<ModalBasis>,
@@ -60,14 +62,14 @@ struct SpanSystem {
 struct Span {
     start: f64,
     system: usize,
-    /// Physical, or modal on a span with a [`ModalBasis`] (as are `trial`, `rhs_free` and
-    /// `free_solved`'s free response, which is then `rhs_free` itself).
+    /// Physical, or modal on a span with a [`ModalBasis`] (as are `trial` and `rhs_free`,
+    /// which is then the step's free response itself).
     committed: State,
     /// Trial state: `d` after each [`Guideway::solve_step`]; `v` and `a` completed on commit.
     trial: State,
     /// The physical trial state of a modal span, formed on request ([`FeGuideway::trial_state`]).
     phys: State,
-    /// `free` holds the free response at the hot elements' DOFs (modal spans).
+    /// `free` holds this step's free response at the hot elements' DOFs (modal spans).
     free_hot: bool,
     /// Nodal loads of the current iteration (Eq. 15).
     load: DVector<f64>,
@@ -84,9 +86,8 @@ struct Span {
     free_valid: bool,
     /// `trial.d` is the unloaded response of the current step.
     trial_is_free: bool,
-    /// The step's free response Keff⁻¹ r (valid when `free_solved`; flexibility spans).
+    /// The step's physical free response at the hot elements' DOFs (valid when `free_hot`).
     free: DVector<f64>,
-    free_solved: bool,
     /// The loaded DOFs of the current iteration (flexibility spans).
     support: Option<LoadSupport>,
     /// The trial displacement is `free + Z·load`, not yet formed in `trial.d`.
@@ -139,22 +140,11 @@ impl Span {
             self.free_valid = true;
             self.trial_is_free = false;
         }
-        if let (true, true, Some(flex), Some(support)) =
-            (columns, self.tracking, &sys.flex, &self.support)
+        if let (true, true, Some(flex), Some(modal), Some(support)) =
+            (columns, self.tracking, &sys.flex, &sys.modal, &self.support)
         {
             // The columns pay while the loads cover at most half the DOFs (module docs).
             if 2 * support.len() <= flex.nrows() {
-                if !self.free_solved {
-                    if sys.modal.is_none() {
-                        self.free
-                            .as_mut_slice()
-                            .copy_from_slice(self.rhs_free.as_slice());
-                        sys.newmark
-                            .solve_in_place(&mut self.free, &mut self.scratch);
-                    }
-                    self.free_solved = true;
-                    self.free_hot = false;
-                }
                 if let Some(rows) = &mut self.rows {
                     if self.rows_dirty {
                         let dofs = self
@@ -166,7 +156,7 @@ impl Span {
                         self.free_hot = false;
                     }
                 }
-                if let (Some(modal), false) = (&sys.modal, self.free_hot) {
+                if !self.free_hot {
                     // The physical free response where the iterations read it: Φ q_free.
                     let (q, free) = (self.rhs_free.as_slice(), self.free.as_mut_slice());
                     for &(e, _) in &self.hot {
@@ -229,21 +219,11 @@ impl Span {
 
     /// Form `trial.d` if it is held as free response plus flexibility.
     fn materialise(&mut self, sys: &SpanSystem) {
-        if let (true, Some(flex), Some(support)) = (self.lazy, &sys.flex, &mut self.support) {
-            match &sys.modal {
-                Some(modal) => {
-                    self.trial.d.copy_from(&self.rhs_free);
-                    let (load, q) = (self.load.as_slice(), self.trial.d.as_mut_slice());
-                    for j in support.dofs() {
-                        modal.add_load(j, load[j], q);
-                    }
-                }
-                None => flex.complete(
-                    support,
-                    self.free.as_slice(),
-                    self.load.as_slice(),
-                    self.trial.d.as_mut_slice(),
-                ),
+        if let (true, Some(modal), Some(support)) = (self.lazy, &sys.modal, &self.support) {
+            self.trial.d.copy_from(&self.rhs_free);
+            let (load, q) = (self.load.as_slice(), self.trial.d.as_mut_slice());
+            for j in support.dofs() {
+                modal.add_load(j, load[j], q);
             }
             self.lazy = false;
         }
@@ -267,20 +247,12 @@ impl Span {
                 return *de;
             }
         }
-        match (self.lazy, &sys.flex, &self.support) {
-            (true, Some(flex), Some(support)) => {
-                let (free, load) = (self.free.as_slice(), self.load.as_slice());
-                match &sys.modal {
-                    Some(modal) => {
-                        let q = self.rhs_free.as_slice();
-                        sys.model.gather_where(e, keep, |f| {
-                            flex.response_with(support, modal.value_at(q, f), load, f)
-                        })
-                    }
-                    None => sys
-                        .model
-                        .gather_where(e, keep, |f| flex.response_at(support, free, load, f)),
-                }
+        match (self.lazy, &sys.flex, &sys.modal, &self.support) {
+            (true, Some(flex), Some(modal), Some(support)) => {
+                let (q, load) = (self.rhs_free.as_slice(), self.load.as_slice());
+                sys.model.gather_where(e, keep, |f| {
+                    flex.response_with(support, modal.value_at(q, f), load, f)
+                })
             }
             _ => match &sys.modal {
                 Some(modal) => {
@@ -305,7 +277,7 @@ impl Span {
         }
         self.committed_at_rest = self.trial_at_rest;
         self.free_valid = false;
-        self.free_solved = false;
+        self.free_hot = false;
         self.trial_is_free = false;
     }
 }
@@ -390,6 +362,8 @@ impl FeGuideway {
                         let keff = effective_stiffness(k, m, c.as_ref(), dt);
                         ModalBasis::new(newmark.components(), k, &keff, m, c.as_ref())
                     });
+                    // The columns serve the modal state only (module docs).
+                    let flex = flex.filter(|_| modal.is_some());
                     systems.push(SpanSystem {
                         model,
                         newmark,
@@ -419,7 +393,6 @@ impl FeGuideway {
                 free_valid: false,
                 trial_is_free: false,
                 free: DVector::zeros(n),
-                free_solved: false,
                 support: sys.flex.as_ref().map(LoadSupport::new),
                 lazy: false,
                 tracking: false,

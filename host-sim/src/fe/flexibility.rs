@@ -7,8 +7,9 @@
 //! 15). With d_free = Keff⁻¹ r solved once per step, a query at an element (Eq. 16) needs d₁
 //! only on that element's 12 DOFs: d_free there plus Σ_j Z_ij F_j over the loaded DOFs j of
 //! the same decoupled component (a straight span's axial, torsion and two bending families
-//! do not couple, so Z is zero across them). The whole d₁ is formed once, on commit, as
-//! d_free plus one column of Z per loaded DOF. An iteration then costs a few hundred
+//! do not couple, so Z is zero across them). The whole step is formed once, on commit, in the
+//! span's modal coordinates ([`super::modal_basis`], where d_free also comes from). An
+//! iteration then costs a few hundred
 //! independent multiply-adds instead of a sparse substitution, which is a chain of dependent
 //! ones (docs/performance.md).
 //!
@@ -91,8 +92,7 @@ impl Flexibility {
     }
 
     /// d₁ at DOF `i`: `free[i] + Σ_j Z_ij load[j]`, the sum over the loaded DOFs of i's
-    /// component in the order they were added, then added to `free[i]` (as in
-    /// [`Self::complete`], so both give the same bits).
+    /// component in the order they were added, then added to `free[i]`.
     pub fn response_at(&self, support: &LoadSupport, free: &[f64], load: &[f64], i: usize) -> f64 {
         self.response_with(support, free[i], load, i)
     }
@@ -107,30 +107,6 @@ impl Flexibility {
         }
         free_i + acc
     }
-
-    /// `out = free + Z·load` over every loaded DOF: the whole d₁, with the sums of
-    /// [`Self::response_at`]; a component without load copies `free`.
-    pub fn complete(&self, support: &mut LoadSupport, free: &[f64], load: &[f64], out: &mut [f64]) {
-        out[..self.n].copy_from_slice(&free[..self.n]);
-        for (c, list) in support.lists.iter().enumerate() {
-            if list.is_empty() {
-                continue;
-            }
-            let (block, members) = (&self.blocks[c], &self.members[c]);
-            let m = members.len();
-            let acc = &mut support.acc[..m];
-            acc.fill(0.0);
-            for &(j, jl) in list {
-                let (col, f) = (&block[jl * m..(jl + 1) * m], load[j]);
-                for (a, z) in acc.iter_mut().zip(col) {
-                    *a += z * f;
-                }
-            }
-            for (&i, a) in members.iter().zip(acc.iter()) {
-                out[i] = free[i] + a;
-            }
-        }
-    }
 }
 
 /// The loaded DOFs of one span's current iteration, per component, each once, in the order
@@ -141,8 +117,6 @@ pub struct LoadSupport {
     lists: Vec<Vec<(usize, usize)>>,
     marked: Vec<bool>,
     len: usize,
-    /// Scratch of [`Flexibility::complete`], one component long.
-    acc: Vec<f64>,
 }
 
 impl LoadSupport {
@@ -156,7 +130,6 @@ impl LoadSupport {
                 .collect(),
             marked: vec![false; flex.n],
             len: 0,
-            acc: vec![0.0; flex.members.iter().map(Vec::len).max().unwrap_or(0)],
         }
     }
 
@@ -322,9 +295,9 @@ mod tests {
 
     /// On the §4.2 span's effective stiffness: the columns are Keff⁻¹'s (Keff·Z = I to
     /// round-off), zero across components, and free + Z·F equals faer's solve of
-    /// Keff d = Keff·free + F to round-off, at single DOFs and in full.
+    /// Keff d = Keff·free + F to round-off at every DOF.
     #[test]
-    fn columns_invert_and_complete_matches_a_solve() {
+    fn columns_invert_and_responses_match_a_solve() {
         let model = SpanModel::new(&BeamSection::paper_4_2(), 25.0, 20).unwrap();
         let dt = 1e-3;
         let keff = model.k.combine(1.0, &model.m, 4.0 / (dt * dt));
@@ -368,12 +341,10 @@ mod tests {
         rhs = &dense * rhs + nalgebra::DVector::from_column_slice(&load);
         let mut want = rhs.as_slice().to_vec();
         faer.solve_in_place(&mut want, &mut scratch);
-        let mut got = vec![0.0; n];
-        flex.complete(&mut support, &free, &load, &mut got);
         let peak = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        for i in 0..n {
-            assert!((got[i] - want[i]).abs() <= 1e-12 * peak, "{i}");
-            assert_eq!(got[i], flex.response_at(&support, &free, &load, i), "{i}");
+        for (i, want) in want.iter().enumerate() {
+            let got = flex.response_at(&support, &free, &load, i);
+            assert!((got - want).abs() <= 1e-12 * peak, "{i}");
         }
         // The gathered rows give response_at's bits at two elements' DOFs.
         let dofs: Vec<Option<usize>> = [3usize, 15]
@@ -391,7 +362,8 @@ mod tests {
         }
         support.clear();
         assert!(support.is_empty());
-        flex.complete(&mut support, &free, &load, &mut got);
-        assert_eq!(got, free);
+        for (i, &free_i) in free.iter().enumerate() {
+            assert_eq!(flex.response_at(&support, &free, &load, i), free_i);
+        }
     }
 }

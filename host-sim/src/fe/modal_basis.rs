@@ -5,13 +5,14 @@
 //! Why: with Φ the solutions of the generalised eigenproblem M φ = μ Keff φ, normalised so that
 //! Φᵀ Keff Φ = I, also Φᵀ M Φ = diag(μ), and a Rayleigh C = α M + β K is diagonal as well
 //! (K = Keff − a₀ M − a₁ C). Writing the span's state as d = Φ q, v = Φ q̇, a = Φ q̈, the step
-//! Keff d₁ = M (a₀ d + a₂ v + a) + C (a₁ d + v) + F becomes, premultiplied by Φᵀ,
-//! q₁ = μ (a₀ q + a₂ q̇ + q̈) + γ (a₁ q + q̇) + Φᵀ F mode by mode, and the end of the step
+//! Keff d₁ = M (a₀ d + a₂ v + a) + C (a₁ d + v) + F becomes, premultiplied by Φᵀ and written
+//! as an increment, q₁ = q + μ (a₂ q̇ + q̈) + γ q̇ − κ q + Φᵀ F mode by mode
+//! ([`ModalBasis::free_response`] says why the increment), and the end of the step
 //! ([`super::newmark::complete_step`]) is the same linear formula in either coordinates. This
 //! is a change of basis, not a truncation: every mode is kept, so the result equals the
-//! direct step up to round-off (tests/fe_solver.rs holds it to 1e-12 of the peak against a
-//! dense physical-coordinate reference). A massless DOF (μ = 0) is no special case, since Φ is
-//! normalised on Keff, which is positive definite.
+//! direct step up to round-off (tests/fe_solver.rs holds it to 1e-12 of the peak against the
+//! dense physical-coordinate step in double-double arithmetic). A massless DOF (μ = 0) is no
+//! special case, since Φ is normalised on Keff, which is positive definite.
 //!
 //! Φ is block-diagonal over the decoupled DOF families (axial, torsion, lateral and vertical
 //! bending), so the displacement at one DOF is a dot product over its family's modes and a
