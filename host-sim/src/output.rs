@@ -151,22 +151,15 @@ pub fn profile_csv(profile: &[[f64; 3]]) -> String {
     s
 }
 
-/// The response.csv writes' size: 64 KiB, as `maglev irregularity` writes stdout. Measured
-/// here (`dd if=/dev/zero of=F bs=8k count=10000` against `bs=64k count=1250`): 12 µs per
-/// 8 KiB write against 35 µs per 64 KiB, so std's 8 KiB default spent ≈ 0.12 ms of the
-/// 2.6 ms accurate §4.2 loop in write calls (docs/performance.md).
-pub const RESPONSE_BUFFER: usize = 1 << 16;
-
 /// Streams `response.csv` into the run's staging directory as the run goes, in writes of
-/// [`RESPONSE_BUFFER`] bytes.
+/// [`CsvRecorder::CHUNK`] bytes (the recorder buffers; the file is written unbuffered).
 pub fn response_recorder(
     dir: &Staging,
     probes: crate::probes::Probes,
-) -> Result<CsvRecorder<std::io::BufWriter<std::fs::File>>> {
+) -> Result<CsvRecorder<std::fs::File>> {
     let p = dir.path("response.csv");
     let f = std::fs::File::create(&p).map_err(|e| Error::io(&p, e))?;
-    let sink = std::io::BufWriter::with_capacity(RESPONSE_BUFFER, f);
-    CsvRecorder::new(probes, sink).map_err(|e| match e {
+    CsvRecorder::new(probes, f).map_err(|e| match e {
         Error::Io { source, .. } => Error::io(&p, source),
         e => e,
     })

@@ -459,11 +459,14 @@ fn push_decimal(line: &mut Vec<u8>, n: u32) {
 /// decimals, [`push_csv_f64`]; not-applicable values empty).
 ///
 /// The header goes through the csv crate (a probe name could need quoting); a row is only
-/// numbers, so it is built in one reusable line and written to the sink as it is.
+/// numbers, so it is appended to one reusable buffer as it is, and the buffer goes to the
+/// sink in writes of [`CsvRecorder::CHUNK`] bytes (the sink needs no buffering of its own).
+/// The buffer's memory is touched when the recorder is made, so the time loop meets no page
+/// fault of it (nor an allocation).
 pub struct CsvRecorder<W: Write> {
     probes: Probes,
     out: W,
-    line: Vec<u8>,
+    buf: Vec<u8>,
 }
 
 impl<W: Write> CsvRecorder<W> {
@@ -483,24 +486,34 @@ impl<W: Write> CsvRecorder<W> {
             .map_err(|e| Error::io(RESPONSE_CSV, e.into_error()))?;
         sink.write_all(&header)
             .map_err(|e| Error::io(RESPONSE_CSV, e))?;
+        // Room for a chunk and one more row (a cell is at most 24 bytes).
+        let mut buf = vec![1u8; Self::CHUNK + 32 * names.len()];
+        buf.clear();
         Ok(CsvRecorder {
             probes,
             out: sink,
-            line: Vec::with_capacity(32 * names.len()),
+            buf,
         })
     }
 
-    /// Flushes and returns the sink.
+    /// The size of the writes to the sink: 64 KiB, as `maglev irregularity` writes stdout.
+    /// Measured here (`dd if=/dev/zero of=F bs=8k count=10000` against `bs=64k count=1250`):
+    /// 12 µs a write of 8 KiB (a `BufWriter`'s default) against 35 µs for 64 KiB.
+    pub const CHUNK: usize = 1 << 16;
+
+    /// Writes what is buffered, flushes and returns the sink.
     pub fn finish(mut self) -> Result<W> {
-        self.out.flush().map_err(|e| Error::io(RESPONSE_CSV, e))?;
+        self.out
+            .write_all(&self.buf)
+            .and_then(|()| self.out.flush())
+            .map_err(|e| Error::io(RESPONSE_CSV, e))?;
         Ok(self.out)
     }
 }
 
 impl<W: Write> Recorder for CsvRecorder<W> {
     fn record(&mut self, step: &StepView) -> Result<()> {
-        let line = &mut self.line;
-        line.clear();
+        let line = &mut self.buf;
         push_csv_f64(line, step.t);
         let mut memo = None;
         for p in &self.probes.probes {
@@ -512,9 +525,12 @@ impl<W: Write> Recorder for CsvRecorder<W> {
         line.push(b',');
         line.push(if step.collision { b'1' } else { b'0' });
         line.push(b'\n');
-        self.out
-            .write_all(line)
-            .map_err(|e| Error::io(RESPONSE_CSV, e))
+        if line.len() < Self::CHUNK {
+            return Ok(());
+        }
+        let written = self.out.write_all(line);
+        line.clear();
+        written.map_err(|e| Error::io(RESPONSE_CSV, e))
     }
 }
 

@@ -200,7 +200,8 @@ pub fn simulate<G: Guideway>(
             let first = forces
                 .first()
                 .ok_or_else(|| Error::invalid("train.loads_kN", "needs at least one load"))?;
-            let mut records = Vec::with_capacity(steps + 1);
+            let mut records = written(steps + 1, Record::default());
+            records.clear();
             records.push(Record {
                 midspan: guideway.section_at(s.midspan_x),
                 wheel1_gap_z: f64::NAN,
@@ -317,7 +318,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     // The irregularity under every wheel and contact, one ascending run per point (rows at
     // equal x are equal, so the order of the runs does not show after the sort).
     let run = steps + 1;
-    let mut profile: Vec<[f64; 3]> = vec![[0.0; 3]; run * (nw + nc)];
+    let mut profile: Vec<[f64; 3]> = written(run * (nw + nc), [0.0; 3]);
     let x0s = v
         .wheels
         .iter()
@@ -362,7 +363,8 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
                 (f64::NAN, veh.u(c.car, c.dof_z), f64::NAN, contact_p[i])
             }
         };
-    let mut records = Vec::with_capacity(steps + 1);
+    let mut records = written(steps + 1, Record::default());
+    records.clear();
     {
         let (_, _, gap_z, force_z) = first(&forces, &contact_p, &gaps_prev, &veh);
         records.push(Record {
@@ -565,6 +567,15 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
         contact_ranges,
         profile,
     })
+}
+
+/// `n` copies of `value` in memory already written, so that the time loop, which fills it,
+/// meets no page fault (the OS maps a fresh or zeroed allocation, `vec![0.0; n]`, only on
+/// first touch). A vector cleared after this keeps its pages.
+fn written<T: Clone>(n: usize, value: T) -> Vec<T> {
+    let mut v = Vec::with_capacity(n);
+    v.resize(n, value);
+    v
 }
 
 /// The linearised contact force (N, compressive positive; docs/cars.md "Wheel–rail
