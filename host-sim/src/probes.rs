@@ -703,6 +703,72 @@ mod tests {
         assert!(text.ends_with("0\n") && !text.contains('\r'));
     }
 
+    /// A sink that keeps every write's size.
+    struct Writes {
+        bytes: Vec<u8>,
+        sizes: Vec<usize>,
+    }
+
+    impl Write for Writes {
+        fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+            self.bytes.extend_from_slice(b);
+            self.sizes.push(b.len());
+            Ok(b.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    /// 6000 rows (≈ 180 KB) reach the sink whole and in order: the header's write, then
+    /// writes of at least [`CsvRecorder::CHUNK`] bytes, then what `finish` leaves.
+    #[test]
+    fn rows_go_out_in_chunks() {
+        let e = Extent {
+            spans: 1,
+            wheels: 1,
+            cars: 0,
+            magnets: false,
+        };
+        let names = vec!["wheel1.force_z".to_string()];
+        let probes = Probes::new(Some(&names), &e).unwrap();
+        let sink = Writes {
+            bytes: Vec::new(),
+            sizes: Vec::new(),
+        };
+        let mut rec = CsvRecorder::new(probes, sink).unwrap();
+        let g = crate::setup::RigidGuideway::new(1e-3);
+        let points = [(0.0, 0.0, 0.0)];
+        let mut want = String::from("t,wheel1.force_z,iterations,collision\n");
+        for k in 0..6000u32 {
+            let t = k as f64 * 1e-3;
+            let f = [36787.5 + (k as f64).sin()];
+            rec.record(&StepView {
+                t,
+                guideway: &g,
+                midspans: &[],
+                wheels: Wheels::Forces {
+                    points: &points,
+                    forces: &f,
+                },
+                iterations: k % 4,
+                collision: false,
+            })
+            .unwrap();
+            want.push_str(&format!("{t:?},{:?},{},0\n", f[0], k % 4));
+        }
+        let out = rec.finish().unwrap();
+        assert_eq!(String::from_utf8(out.bytes).unwrap(), want);
+        let (first, rest) = out.sizes.split_first().unwrap();
+        assert_eq!(*first, "t,wheel1.force_z,iterations,collision\n".len());
+        let (last, chunks) = rest.split_last().unwrap();
+        let chunk = CsvRecorder::<Writes>::CHUNK;
+        // A chunk goes out with the row that fills it (a row here is under 64 bytes).
+        assert!(chunks.len() >= 2, "{:?}", out.sizes);
+        assert!(chunks.iter().all(|&c| (chunk..chunk + 64).contains(&c)));
+        assert!(*last < chunk);
+    }
+
     #[test]
     fn names_parse_and_are_checked_against_the_case() {
         assert_eq!(
