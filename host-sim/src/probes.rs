@@ -24,7 +24,7 @@
 //! is `wheel1.gap_z`, …). Every probe is checked against the case before the run starts.
 
 use crate::guideway::{Guideway, SectionMotion};
-use crate::simulation::magnet_gaps;
+use crate::simulation::{magnet_gaps, written};
 use crate::vehicle::Node;
 use crate::{Error, Result};
 use std::io::Write;
@@ -486,8 +486,8 @@ impl<W: Write> CsvRecorder<W> {
             .map_err(|e| Error::io(RESPONSE_CSV, e.into_error()))?;
         sink.write_all(&header)
             .map_err(|e| Error::io(RESPONSE_CSV, e))?;
-        // Room for a chunk and one more row (a cell is at most 24 bytes).
-        let mut buf = vec![1u8; Self::CHUNK + 32 * names.len()];
+        // Room for a chunk and one more row (a cell is at most 24 bytes), pages written.
+        let mut buf = written(Self::CHUNK + 32 * names.len(), 0u8);
         buf.clear();
         Ok(CsvRecorder {
             probes,
@@ -513,6 +513,7 @@ impl<W: Write> CsvRecorder<W> {
 
 impl<W: Write> Recorder for CsvRecorder<W> {
     fn record(&mut self, step: &StepView) -> Result<()> {
+        // The row goes straight after the rows still buffered.
         let line = &mut self.buf;
         push_csv_f64(line, step.t);
         let mut memo = None;

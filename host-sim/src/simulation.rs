@@ -572,7 +572,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
 /// `n` copies of `value` in memory already written, so that the time loop, which fills it,
 /// meets no page fault (the OS maps a fresh or zeroed allocation, `vec![0.0; n]`, only on
 /// first touch). A vector cleared after this keeps its pages.
-fn written<T: Clone>(n: usize, value: T) -> Vec<T> {
+pub(crate) fn written<T: Clone>(n: usize, value: T) -> Vec<T> {
     let mut v = Vec::with_capacity(n);
     v.resize(n, value);
     v
