@@ -157,6 +157,18 @@ fn validate_fails_under_the_ems_geometry() {
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("speed") && err.lines().count() == 1, "{err}");
+    // A bad value or key is refused before anything is written: no directory is left.
+    for (set, key) in [("foo=1", "foo"), ("alpha=2", "alpha"), ("seed=-1", "seed")] {
+        let fresh = out_dir(&format!("validate-bad-{key}"));
+        let o = maglev(&["validate", "--set", set, "--out", fresh.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{set}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains(key) && err.lines().count() == 1,
+            "{set}: {err}"
+        );
+        assert!(!fresh.exists(), "{set}: validate left {}", fresh.display());
+    }
 }
 
 #[test]

@@ -343,6 +343,9 @@ fn bad_specs_exit_2_with_one_line_naming_the_key() {
         ("scenario='moving-force'\n[axes]\nspeed=[1.0]\n[reduce]\nquantities=['peak:wheel1_gap_z']\n", "no gaps"),
         ("scenario='moving-force'\n[axes]\nspeed=[1.0]\n[reduce]\nquantities=['peak:span2.midspan.z']\n", "at most 1"),
         ("scenario='nowhere'\n[axes]\nspeed=[1.0]\n[reduce]\nquantities=['peak:midspan_z']\n", "nowhere"),
+        ("scenario='moving-force'\n[axes]\nspeeed=[1.0]\n[reduce]\nquantities=['peak:midspan_z']\n", "axes.speeed"),
+        ("scenario='moving-force'\n[axes]\n'run.speeed_m_per_s'=[1.0]\n[reduce]\nquantities=['peak:midspan_z']\n", "speeed_m_per_s"),
+        ("scenario='moving-force'\n[axes]\nelements=[4, 8]\nseed=['one']\n[reduce]\nquantities=['peak:midspan_z']\n", "axes.seed"),
     ] {
         let sp = spec(&d, text);
         let o = maglev(&["sweep", s(&sp), "--out", s(&d.join("out"))]);
@@ -350,6 +353,7 @@ fn bad_specs_exit_2_with_one_line_naming_the_key() {
         let e = String::from_utf8_lossy(&o.stderr);
         assert_eq!(e.trim_end().lines().count(), 1, "{e}");
         assert!(e.contains(key), "{key}: {e}");
+        assert!(!d.join("out").exists(), "{text}: a directory was left");
     }
     let sp = spec(&d, ISSUE);
     let o = maglev(&[

@@ -346,3 +346,28 @@ fn pier_base_moves_under_load() {
     let base = v.layout().pier_base[1] * 6 + 2;
     assert!(st[base] < 0.0);
 }
+
+/// A cluster of nearly equal modes wider than the first block (one lateral mode a span,
+/// within 5e-6 of each other on a long viaduct) stalls the first block; the doubled blocks
+/// must still find the dense solve's lowest frequencies. 20 spans at 2 modes double the block
+/// once, 35 spans at 4 modes twice (the 12 modes of `maglev modes --viaduct 35` once failed
+/// here after 1000 iterations).
+#[test]
+fn subspace_iteration_resolves_clusters_wider_than_its_block() {
+    for (spans, elements, count) in [(20, 4, 2), (35, 2, 4)] {
+        let mut spec = paper5_viaduct().with_spans(spans);
+        spec.elements_per_span = elements;
+        let (s, _) = assemble(&spec).unwrap();
+        let dense = dense_modes(&s).unwrap();
+        let sub = lowest_modes(&s, count).unwrap();
+        assert_eq!(sub.len(), count);
+        for (a, b) in dense.iter().zip(&sub) {
+            assert!(
+                (a.frequency_hz / b.frequency_hz - 1.0).abs() < 1e-9,
+                "{spans} spans: {} vs {}",
+                a.frequency_hz,
+                b.frequency_hz
+            );
+        }
+    }
+}

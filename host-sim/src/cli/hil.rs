@@ -49,7 +49,7 @@ impl QemuLink {
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// A scenario TOML file, or a bundled name (paper-4.2).
+    /// A scenario TOML file with a Fig. 1 vehicle, or a bundled name (paper-4.2).
     pub scenario: String,
     #[arg(long, value_enum, default_value = "inproc")]
     pub firmware: FirmwareMode,

@@ -10,10 +10,11 @@ use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// A scenario TOML file, or a bundled name (paper-4.2, moving-force).
+    /// A scenario TOML file, or a bundled name (paper-4.2, paper-5, train-forces,
+    /// moving-force).
     pub scenario: String,
-    /// Override a scenario value: speed, model, elements, modes, dt, t_end, nsub, alpha, scheme,
-    /// law, seed, or section.key (repeatable).
+    /// Override a scenario value: train, speed, model, elements, modes, dt, t_end, nsub, alpha,
+    /// law, scheme, seed, geometry, or section.key (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
     /// Output directory.

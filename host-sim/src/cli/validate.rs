@@ -14,7 +14,9 @@ pub struct Args {
     /// validation.md` regenerates the committed docs/validation.md and its figures).
     #[arg(long, default_value = "report.md")]
     pub report: String,
-    /// Output directory for the report, validation.json and the figures.
+    /// Output directory for the report, validation.json and the figures. Unlike `run`,
+    /// validate writes only its own files into it and leaves the rest alone (so it can be
+    /// docs/); nothing is written unless every case has run.
     #[arg(long, default_value = "validation")]
     pub out: PathBuf,
     /// Controller scheme of every run, FE and modal reference alike (`controller.scheme`).
@@ -29,13 +31,24 @@ pub struct Args {
 
 pub fn run_cmd(args: Args) -> anyhow::Result<()> {
     crate::validation::check_sets(&args.sets)?;
-    std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
     let mut bar = Progress::steps("validate", RUNS);
     let out = validate(&args.sets, args.scheme, |what| bar.step(what))?;
     drop(bar);
+    // Everything is in memory now: nothing is created before the validation has run, and
+    // each file is written beside its place and renamed into it, so a failure leaves either
+    // the previous file or the new one, never half of one.
+    std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
     let write = |name: &str, text: &str| {
         let p = args.out.join(name);
-        std::fs::write(&p, text).map_err(|e| Error::io(p, e))
+        let tmp = args
+            .out
+            .join(format!(".{name}.partial-{}", std::process::id()));
+        std::fs::write(&tmp, text)
+            .and_then(|()| std::fs::rename(&tmp, &p))
+            .map_err(|e| {
+                let _ = std::fs::remove_file(&tmp);
+                Error::io(p, e)
+            })
     };
     for (name, svg) in &out.figures {
         write(name, svg)?;

@@ -92,10 +92,16 @@ impl HilSettings {
     pub fn set(&mut self, key: &str, value: &str) -> Result<()> {
         let bad = |reason: String| Error::invalid(format!("--set {key}"), reason);
         fn num<T: std::str::FromStr>(k: &str, v: &str) -> Result<T> {
+            // The limit the type sets: `rate=-5` is refused for its sign, not its digits.
+            let kind = match std::any::type_name::<T>() {
+                "u8" | "u16" | "u32" | "u64" | "usize" => " (a whole number ≥ 0)",
+                "i8" | "i16" | "i32" | "i64" | "isize" => " (a whole number)",
+                _ => "",
+            };
             v.parse().map_err(|_| {
                 Error::invalid(
                     format!("--set {k}"),
-                    format!("cannot read `{v}` as a number"),
+                    format!("cannot read `{v}` as a number{kind}"),
                 )
             })
         }
@@ -188,8 +194,13 @@ mod tests {
         let (k, r) = refused("rate", "fast");
         assert_eq!(
             (k.as_str(), r.as_str()),
-            ("--set rate", "cannot read `fast` as a number")
+            (
+                "--set rate",
+                "cannot read `fast` as a number (a whole number ≥ 0)"
+            )
         );
+        let (_, r) = refused("rate", "-5");
+        assert_eq!(r, "cannot read `-5` as a number (a whole number ≥ 0)");
         let (k, r) = refused("delay", "maybe");
         assert_eq!(k, "--set delay");
         assert!(r.contains("true/false") && r.contains("`maybe`"), "{r}");

@@ -2,8 +2,10 @@
 //!
 //! A run writes into a hidden sibling directory and renames it into place when every file is
 //! written, so an interrupted or failed run leaves neither half-written files nor a mix of an
-//! old run's files with a new run's. A directory that exists and is not a maglev output (it
-//! lacks the [`MARKER`] file and is not empty) is refused rather than overwritten.
+//! old run's files with a new run's. A directory that exists is replaced only when it is an
+//! output of the same kind (it holds that kind's marker file) or empty: anything else,
+//! including a maglev output of the other kind (a run's directory given to `sweep merge`, a
+//! sweep's to `run`), is refused rather than overwritten.
 
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -11,25 +13,57 @@ use std::path::{Path, PathBuf};
 /// The file that marks a directory as a maglev run's output.
 pub const MARKER: &str = ".maglev-output";
 
+/// The kinds of output directory, by marker file: (marker, what it is, the marker's text).
+const KINDS: [(&str, &str, &str); 2] = [
+    (
+        MARKER,
+        "a maglev run's output",
+        "maglev run output; the whole directory is replaced by the next run\n",
+    ),
+    (
+        crate::sweep::store::MARKER,
+        "a maglev sweep",
+        "maglev sweep (merged): runs/ holds one record per finished run\n",
+    ),
+];
+
 /// A run's output being written.
 pub struct Staging {
     target: PathBuf,
     tmp: PathBuf,
+    kind: usize,
 }
 
 impl Staging {
-    /// Checks that `target` may be replaced and creates the staging directory beside it.
+    /// Checks that `target` may be replaced by a run's output and creates the staging
+    /// directory beside it.
     pub fn new(target: &Path) -> Result<Self> {
+        Self::of_kind(target, 0)
+    }
+
+    /// The same for a merged sweep (`sweep merge`): replaces a sweep directory, never a run's.
+    pub fn sweep(target: &Path) -> Result<Self> {
+        Self::of_kind(target, 1)
+    }
+
+    fn of_kind(target: &Path, kind: usize) -> Result<Self> {
         if target.exists() {
-            let is_ours = target.join(MARKER).is_file();
+            let (marker, what, _) = KINDS[kind];
+            let is_ours = target.join(marker).is_file();
             let empty = std::fs::read_dir(target)
                 .map_err(|e| Error::io(target, e))?
                 .next()
                 .is_none();
             if !is_ours && !empty {
+                let is = KINDS
+                    .iter()
+                    .find(|(m, _, _)| target.join(m).is_file())
+                    .map_or("not a maglev output".to_string(), |(m, w, _)| {
+                        format!("{w} ({m}), not {what}")
+                    });
                 return Err(Error::invalid(
                     format!("--out {}", target.display()),
-                    format!("the directory exists and is not a maglev output (no {MARKER} file); refusing to overwrite it"),
+                    format!("the directory exists and is {is} (no {marker} file); refusing to overwrite it"),
                 ));
             }
         }
@@ -54,6 +88,7 @@ impl Staging {
         Ok(Staging {
             target: target.to_path_buf(),
             tmp,
+            kind,
         })
     }
 
@@ -68,12 +103,10 @@ impl Staging {
         std::fs::write(&p, text).map_err(|e| Error::io(p, e))
     }
 
-    /// Moves the complete run into place, replacing the previous maglev output there.
+    /// Moves the complete run into place, replacing the previous output of its kind there.
     pub fn finish(self) -> Result<()> {
-        self.put(
-            MARKER,
-            "maglev run output; the whole directory is replaced by the next run\n",
-        )?;
+        let (marker, _, text) = KINDS[self.kind];
+        self.put(marker, text)?;
         let old = self.tmp.with_extension("old");
         if self.target.exists() {
             std::fs::rename(&self.target, &old).map_err(|e| Error::io(&self.target, e))?;
@@ -146,5 +179,31 @@ mod tests {
         std::fs::create_dir(&empty).unwrap();
         Staging::new(&empty).unwrap().finish().unwrap();
         assert!(empty.join(MARKER).exists());
+    }
+
+    #[test]
+    fn each_kind_replaces_only_its_own() {
+        let root = scratch("kinds");
+        let (run, sweep) = (root.join("run"), root.join("sweep"));
+        Staging::new(&run).unwrap().finish().unwrap();
+        Staging::sweep(&sweep).unwrap().finish().unwrap();
+        assert!(sweep.join(crate::sweep::store::MARKER).exists());
+        assert!(
+            !sweep.join(MARKER).exists(),
+            "a merged sweep marked as a run"
+        );
+        let e = Staging::new(&sweep).err().unwrap().to_string();
+        assert!(
+            e.contains("is a maglev sweep (.maglev-sweep), not a maglev run's output"),
+            "{e}"
+        );
+        let e = Staging::sweep(&run).err().unwrap().to_string();
+        assert!(
+            e.contains("is a maglev run's output (.maglev-output), not a maglev sweep"),
+            "{e}"
+        );
+        // Each replaces its own kind.
+        Staging::new(&run).unwrap().finish().unwrap();
+        Staging::sweep(&sweep).unwrap().finish().unwrap();
     }
 }

@@ -134,8 +134,19 @@ pub fn sweep(spec: &Spec, out: &Path, opts: &Options) -> Result<Report> {
     if opts.jobs == 0 {
         return Err(Error::invalid("--jobs", "must be at least 1, got 0"));
     }
-    // The spec's base case and its probes must be sound before any run starts.
+    // The spec's base case and its probes must be sound before any run starts, and so must
+    // every axis key and the type of every axis value: a misspelt key would fail every run
+    // and still leave a sweep directory. Values the case refuses (speed = -10) stay failed
+    // runs, recorded with their errors.
     case(spec, None)?;
+    for axis in &spec.axes {
+        for v in &axis.values {
+            let mut sets = spec.sets.clone();
+            sets.push(format!("{}={}", axis.key, v.toml()));
+            crate::scenario::load(&spec.scenario, &sets)
+                .map_err(|e| Error::invalid(format!("axes.{}", axis.key), e.to_string()))?;
+        }
+    }
     let store = Store::open(out, &Header::of(spec)?)?;
     let share: Vec<Run> = runs::all(spec)
         .into_iter()

@@ -6,7 +6,7 @@
 //! and renamed into place (output/staging.rs), so it holds one complete merge or nothing.
 
 use super::runs;
-use super::store::{self, write_atomic, Header, Record, MARKER};
+use super::store::{self, write_atomic, Header, Record};
 use crate::output::Staging;
 use crate::{Error, Result};
 use std::collections::BTreeMap;
@@ -72,7 +72,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<usize> {
         .iter()
         .map(|r| (r.id.clone(), records[&r.id].0.clone()))
         .collect();
-    let staging = Staging::new(out).map_err(|e| Error::invalid("--out", e.to_string()))?;
+    let staging = Staging::sweep(out)?;
     let dir = staging.path("");
     let runs_dir = dir.join("runs");
     std::fs::create_dir_all(&runs_dir).map_err(|e| Error::io(&runs_dir, e))?;
@@ -81,15 +81,9 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<usize> {
             .map_err(|e| Error::parse("run record", e))?;
         write_atomic(&runs_dir.join(run.file_name()), (json + "\n").as_bytes())?;
     }
-    write_atomic(
-        &dir.join(MARKER),
-        b"maglev sweep (merged): runs/ holds one record per finished run\n",
-    )?;
     let json = serde_json::to_string_pretty(&header).map_err(|e| Error::parse("sweep.json", e))?;
     write_atomic(&dir.join("sweep.json"), (json + "\n").as_bytes())?;
     super::publish(&dir, spec, &all, &records)?;
-    staging
-        .finish()
-        .map_err(|e| Error::invalid("--out", e.to_string()))?;
+    staging.finish()?;
     Ok(all.len())
 }
