@@ -6,44 +6,17 @@ pub mod staging;
 use crate::case::Case;
 use crate::plot::{self, Plot, Series};
 use crate::probes::CsvRecorder;
-use crate::simulation::{GapRanges, Outcome, Record};
+use crate::simulation::{GapRanges, Outcome};
 use crate::{Error, Result};
 use serde::Serialize;
 pub use staging::Staging;
 use std::fmt::Write as _;
-
-/// Reads one value from a record.
-pub type Getter = fn(&Record) -> f64;
-
-/// The in-memory histories (summary peaks and plots), with how to read each from a record.
-pub const COLUMNS: [(&str, Getter); 8] = [
-    ("t", |r| r.t),
-    ("midspan_y", |r| r.midspan.y),
-    ("midspan_z", |r| r.midspan.z),
-    ("midspan_rx", |r| r.midspan.rx),
-    ("wheel1_y", |r| r.wheel1_y),
-    ("wheel1_z", |r| r.wheel1_z),
-    ("wheel1_gap_z", |r| r.wheel1_gap_z),
-    ("wheel1_force_z", |r| r.wheel1_force_z),
-];
 
 /// The largest magnitude of a history, signed, with its time.
 #[derive(Serialize, Debug, Clone, Copy, PartialEq)]
 pub struct Peak {
     pub value: f64,
     pub t: f64,
-}
-
-/// Peak of column `get` over the records (None when the column is not applicable).
-pub fn peak(records: &[Record], get: Getter) -> Option<Peak> {
-    records
-        .iter()
-        .filter(|r| get(r).is_finite())
-        .max_by(|a, b| get(a).abs().total_cmp(&get(b).abs()))
-        .map(|r| Peak {
-            value: get(r),
-            t: r.t,
-        })
 }
 
 /// `summary.json` contents.
@@ -101,7 +74,15 @@ pub fn gap_ranges(ranges: &GapRanges) -> Vec<GapRange> {
 }
 
 impl Summary {
-    pub fn new(scenario: &str, case: &Case, outcome: &Outcome, wall: f64) -> Self {
+    /// `columns` are the run's response.csv read back ([`Columns::read`]): the peaks are of
+    /// every history written there, the probes included.
+    pub fn new(
+        scenario: &str,
+        case: &Case,
+        outcome: &Outcome,
+        wall: f64,
+        columns: &Columns,
+    ) -> Self {
         let records = &outcome.records;
         let steps = records.len().saturating_sub(1);
         let simulated = records.last().map_or(0.0, |r| r.t);
@@ -111,10 +92,9 @@ impl Summary {
         } else {
             iters.iter().map(|&i| i as f64).sum::<f64>() / iters.len() as f64
         };
-        let peaks = COLUMNS
-            .iter()
-            .skip(1)
-            .map(|(n, get)| (n.to_string(), peak(records, *get)))
+        let peaks = columns
+            .histories()
+            .map(|(n, y)| (n.to_string(), columns.peak(y)))
             .collect();
         Summary {
             scenario: scenario.to_string(),
@@ -137,6 +117,78 @@ impl Summary {
             gaps: gap_ranges(&outcome.gap_ranges),
             peaks,
         }
+    }
+}
+
+/// The histories of a run's response.csv, read back once it is complete: what summary.json's
+/// peaks and the SVGs are made of, so they cover exactly the columns written (the probes) and
+/// agree with the file to the bit (its numbers are shortest round-trip decimals). An empty
+/// cell (a quantity that does not apply) reads as NaN.
+pub struct Columns {
+    names: Vec<String>,
+    /// Column by column, every row.
+    values: Vec<Vec<f64>>,
+}
+
+/// Columns of response.csv that are not histories of a physical quantity.
+const NOT_HISTORIES: [&str; 3] = ["t", "iterations", "collision"];
+
+impl Columns {
+    /// Reads `response.csv` from the run's staging directory.
+    pub fn read(dir: &Staging) -> Result<Self> {
+        let p = dir.path("response.csv");
+        let mut r =
+            csv::Reader::from_path(&p).map_err(|e| Error::parse(p.display().to_string(), e))?;
+        let names: Vec<String> = r
+            .headers()
+            .map_err(|e| Error::parse(p.display().to_string(), e))?
+            .iter()
+            .map(str::to_string)
+            .collect();
+        let mut values = vec![Vec::new(); names.len()];
+        for row in r.records() {
+            let row = row.map_err(|e| Error::parse(p.display().to_string(), e))?;
+            for (col, cell) in values.iter_mut().zip(row.iter()) {
+                col.push(if cell.is_empty() {
+                    f64::NAN
+                } else {
+                    cell.parse()
+                        .map_err(|e| Error::parse(format!("{}: `{cell}`", p.display()), e))?
+                });
+            }
+        }
+        if names.first().map(String::as_str) != Some("t") {
+            return Err(Error::numerical(format!(
+                "internal: {} does not start with a t column",
+                p.display()
+            )));
+        }
+        Ok(Columns { names, values })
+    }
+
+    /// The time column (s).
+    pub fn t(&self) -> &[f64] {
+        &self.values[0]
+    }
+
+    /// Every history, by its column name, in the file's order.
+    pub fn histories(&self) -> impl Iterator<Item = (&str, &[f64])> {
+        self.names
+            .iter()
+            .zip(&self.values)
+            .filter(|(n, _)| !NOT_HISTORIES.contains(&n.as_str()))
+            .map(|(n, v)| (n.as_str(), v.as_slice()))
+    }
+
+    /// The largest magnitude of history `y`, signed, with its time (None when no value is
+    /// finite: the quantity does not apply).
+    pub fn peak(&self, y: &[f64]) -> Option<Peak> {
+        self.t()
+            .iter()
+            .zip(y)
+            .filter(|(_, v)| v.is_finite())
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+            .map(|(&t, &value)| Peak { value, t })
     }
 }
 
@@ -173,8 +225,8 @@ pub fn write_run(
     outcome: &Outcome,
     summary: &Summary,
     sets: &[String],
+    columns: &Columns,
 ) -> Result<()> {
-    let records = &outcome.records;
     let put = |name: &str, text: &str| dir.put(name, text);
     put("profile.csv", &profile_csv(&outcome.profile))?;
     put(
@@ -182,28 +234,28 @@ pub fn write_run(
         &(serde_json::to_string_pretty(summary).map_err(|e| Error::numerical(e.to_string()))?
             + "\n"),
     )?;
-    let t: Vec<f64> = records.iter().map(|r| r.t).collect();
     let h0 = (summary.h0 > 0.0).then_some(summary.h0);
-    for (name, get) in COLUMNS.iter().skip(1) {
-        let y: Vec<f64> = records.iter().map(get).collect();
+    for (name, y) in columns.histories() {
         if y.iter().all(|v| !v.is_finite()) {
             continue;
         }
         let title = format!("{} — {name}{}", summary.scenario, plot::overrides(sets));
-        let p = history_plot(name, &summary.model, &t, &y, h0);
+        let p = history_plot(name, &summary.model, columns.t(), y, h0);
         let p = Plot { title, ..p };
         put(&format!("{name}.svg"), &plot::svg(&p)?)?;
     }
     Ok(())
 }
 
-/// The plot of history `name` in display units: displacements in mm, forces in kN, the
-/// levitation gap as its deviation from h0 in mm about a zero line (docs/model.md §2).
+/// The plot of history `name` (a default column or a probe) in display units: displacements
+/// in mm, forces in kN, accelerations in m/s², rotations in rad, the levitation gap as its
+/// deviation from h0 in mm about a zero line (docs/model.md §2).
 fn history_plot(name: &str, model: &str, t: &[f64], y: &[f64], h0: Option<f64>) -> Plot {
     let scaled = |k: f64, off: f64| y.iter().map(|v| (v - off) * k).collect::<Vec<_>>();
     let (label, y, zero) = match (name, h0) {
-        (n, Some(h0)) if n.ends_with("_gap_z") => (format!("{n} − h0 (mm)"), scaled(1e3, h0), true),
-        (n, _) if n.ends_with("_rx") => (format!("{n} (rad)"), y.to_vec(), false),
+        (n, Some(h0)) if n.ends_with("gap_z") => (format!("{n} − h0 (mm)"), scaled(1e3, h0), true),
+        (n, _) if n.ends_with("rx") => (format!("{n} (rad)"), y.to_vec(), false),
+        (n, _) if n.ends_with("az") => (format!("{n} (m/s²)"), y.to_vec(), true),
         (n, _) if n.ends_with("force_z") => (format!("{n} (kN)"), scaled(1e-3, 0.0), false),
         (n, _) => (format!("{n} (mm)"), scaled(1e3, 0.0), false),
     };

@@ -200,6 +200,36 @@ fn probes_name_their_columns_and_body_acceleration_is_newmarks() {
         let rhs = (az[k + 1] + 2.0 * az[k] + az[k - 1]) / 4.0;
         assert!((lhs - rhs).abs() < 1e-6 * peak, "step {k}: {lhs} vs {rhs}");
     }
+    // summary.json's peaks and the plots are of the probed columns, nothing else: each peak
+    // is the column's largest magnitude (signed) and its time, read off response.csv here.
+    let sum = summary(&d);
+    let peaks = sum["peaks"].as_object().unwrap();
+    let names = [
+        "car1.body.z",
+        "car1.body.az",
+        "span1.midspan.z",
+        "wheel2.gap_z",
+    ];
+    let mut keys: Vec<&str> = peaks.keys().map(String::as_str).collect();
+    keys.sort_unstable();
+    let mut want = names.to_vec();
+    want.sort_unstable();
+    assert_eq!(keys, want);
+    let t = column(&d, "t");
+    for name in names {
+        let y = column(&d, name);
+        let k = (0..y.len())
+            .max_by(|&a, &b| y[a].abs().total_cmp(&y[b].abs()))
+            .unwrap();
+        assert_eq!(peaks[name]["value"].as_f64(), Some(y[k]), "{name}");
+        assert_eq!(peaks[name]["t"].as_f64(), Some(t[k]), "{name}");
+        let svg = std::fs::read_to_string(d.join(format!("{name}.svg"))).unwrap();
+        assert!(svg.contains(name), "{name}.svg");
+    }
+    assert!(
+        !d.join("midspan_z.svg").exists(),
+        "a plot of a column not written"
+    );
     // The same midspan as the default column, bit for bit.
     let d0 = out_dir("probes-default");
     assert!(maglev(&["run", "paper-4.2", "--out", d0.to_str().unwrap()])

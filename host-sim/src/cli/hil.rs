@@ -6,7 +6,7 @@ use crate::cli::progress::Progress;
 use crate::hil::compare::{compare, Comparison};
 use crate::hil::link::{InProc, Link, LinkFaults, LinkStats, StreamLink};
 use crate::hil::{HilSettings, HIL_KEYS};
-use crate::output::{response_recorder, write_run, Staging, Summary};
+use crate::output::{response_recorder, write_run, Columns, Staging, Summary};
 use crate::setup::{simulate, Controllers, Run};
 use crate::{Error, Result};
 use maglev_firmware_sim::supervision::Event;
@@ -336,7 +336,8 @@ fn run_inner(args: Args) -> Result<()> {
     } else {
         (None, None)
     };
-    let run = Summary::new(&args.scenario, &case, &outcome.outcome, wall);
+    let columns = Columns::read(&out)?;
+    let run = Summary::new(&args.scenario, &case, &outcome.outcome, wall, &columns);
     let summary = HilSummary {
         firmware: format!("{:?}", args.firmware).to_lowercase(),
         qemu_link: (args.firmware == FirmwareMode::Qemu)
@@ -354,7 +355,7 @@ fn run_inner(args: Args) -> Result<()> {
         compare_before_fault: cmp_before,
         run,
     };
-    write_run(&out, &outcome.outcome, &summary.run, &args.sets)?;
+    write_run(&out, &outcome.outcome, &summary.run, &args.sets, &columns)?;
     let put = |name: &str, text: String| out.put(name, &text);
     put(
         "summary.json",

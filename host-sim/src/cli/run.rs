@@ -3,7 +3,7 @@
 
 use crate::case::Case;
 use crate::cli::progress::Progress;
-use crate::output::{gap_ranges, response_recorder, write_run, Staging, Summary};
+use crate::output::{gap_ranges, response_recorder, write_run, Columns, Staging, Summary};
 use crate::setup::{simulate, Controllers};
 use crate::simulation::Outcome;
 use std::path::PathBuf;
@@ -84,8 +84,9 @@ pub fn run(args: Args) -> anyhow::Result<bool> {
     rec.finish()?;
     let (outcome, wall) = (run.outcome, run.wall);
     warn(&outcome);
-    let summary = Summary::new(&args.scenario, &case, &outcome, wall);
-    write_run(&out, &outcome, &summary, &args.sets)?;
+    let columns = Columns::read(&out)?;
+    let summary = Summary::new(&args.scenario, &case, &outcome, wall, &columns);
+    write_run(&out, &outcome, &summary, &args.sets, &columns)?;
     out.finish()?;
     eprintln!(
         "maglev: {} steps, {:.3} s simulated in {:.2} s wall; wrote {}",
