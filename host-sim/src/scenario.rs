@@ -395,11 +395,32 @@ pub fn load(name_or_path: &str, sets: &[String]) -> Result<Scenario> {
 pub fn parse(text: &str, name: &str, sets: &[String]) -> Result<Scenario> {
     let mut table: toml::Table = toml::from_str(text)
         .map_err(|e| Error::parse(format!("scenario {name}"), one_line(&e.to_string())))?;
+    let base = table.clone();
     for set in sets {
         apply_set(&mut table, set)?;
     }
     table.try_into().map_err(|e: toml::de::Error| {
-        Error::parse(format!("scenario {name}"), one_line(&e.to_string()))
+        // Name the override that made the text unreadable, when one did: serde's path stops
+        // at the table for an enum's variant (`in vehicle` for `--set geometry=foo`).
+        let culprit = (0..sets.len()).find(|&i| {
+            let mut t = base.clone();
+            sets[..=i].iter().all(|s| apply_set(&mut t, s).is_ok())
+                && t.try_into::<Scenario>().is_err()
+        });
+        let what = match culprit {
+            Some(i) => {
+                let key = sets[i]
+                    .split_once('=')
+                    .map_or(&sets[i][..], |(k, _)| k.trim());
+                let full = SHORT_KEYS
+                    .iter()
+                    .find(|(s, _)| *s == key)
+                    .map_or(key.to_string(), |(s, f)| format!("{s} ({f})"));
+                format!("--set {full}, scenario {name}")
+            }
+            None => format!("scenario {name}"),
+        };
+        Error::parse(what, one_line(&e.to_string()))
     })
 }
 
@@ -478,6 +499,8 @@ mod tests {
             ("model=beam", "run.model"),
             ("law=pid", "controller.law"),
             ("scheme=exact", "controller.scheme"),
+            ("geometry=foo", "--set geometry (vehicle.geometry)"),
+            ("run.elements_per_span=4.5", "--set run.elements_per_span"),
         ] {
             let e = load("paper-4.2", &[set.into()]).unwrap_err().to_string();
             assert!(e.contains(key), "{set}: {e}");
