@@ -9,7 +9,7 @@ use crate::probes::CsvRecorder;
 use crate::simulation::{GapRanges, Outcome};
 use crate::{Error, Result};
 use serde::Serialize;
-pub use staging::Staging;
+pub use staging::{write_atomic, Staging};
 use std::fmt::Write as _;
 
 /// The largest magnitude of a history, signed, with its time.

@@ -412,11 +412,10 @@ pub fn parse(text: &str, name: &str, sets: &[String]) -> Result<Scenario> {
                 let key = sets[i]
                     .split_once('=')
                     .map_or(&sets[i][..], |(k, _)| k.trim());
-                let full = SHORT_KEYS
-                    .iter()
-                    .find(|(s, _)| *s == key)
-                    .map_or(key.to_string(), |(s, f)| format!("{s} ({f})"));
-                format!("--set {full}, scenario {name}")
+                match full_key(key) {
+                    full if full != key => format!("--set {key} ({full}), scenario {name}"),
+                    _ => format!("--set {key}, scenario {name}"),
+                }
             }
             None => format!("scenario {name}"),
         };
@@ -428,16 +427,20 @@ fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
+/// `section.key` of a `--set` key: a short key's full name, any other key as written.
+fn full_key(key: &str) -> &str {
+    SHORT_KEYS
+        .iter()
+        .find(|(s, _)| *s == key)
+        .map_or(key, |(_, f)| *f)
+}
+
 fn apply_set(table: &mut toml::Table, set: &str) -> Result<()> {
     let (key, value) = set
         .split_once('=')
         .ok_or_else(|| Error::invalid(format!("--set `{set}`"), "expected key=value"))?;
     let key = key.trim();
-    let full = SHORT_KEYS
-        .iter()
-        .find(|(s, _)| *s == key)
-        .map(|(_, f)| *f)
-        .unwrap_or(key);
+    let full = full_key(key);
     let (section, field) = full.split_once('.').ok_or_else(|| {
         let shorts: Vec<&str> = SHORT_KEYS.iter().map(|(s, _)| *s).collect();
         Error::invalid(

@@ -3,6 +3,7 @@
 //! non-zero when a criterion fails.
 
 use crate::cli::progress::Progress;
+use crate::output::write_atomic;
 use crate::scenario::SchemeKey;
 use crate::validation::{validate, RUNS};
 use crate::Error;
@@ -35,21 +36,9 @@ pub fn run_cmd(args: Args) -> anyhow::Result<()> {
     let out = validate(&args.sets, args.scheme, |what| bar.step(what))?;
     drop(bar);
     // Everything is in memory now: nothing is created before the validation has run, and
-    // each file is written beside its place and renamed into it, so a failure leaves either
-    // the previous file or the new one, never half of one.
+    // each file is written beside its place and renamed into it.
     std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
-    let write = |name: &str, text: &str| {
-        let p = args.out.join(name);
-        let tmp = args
-            .out
-            .join(format!(".{name}.partial-{}", std::process::id()));
-        std::fs::write(&tmp, text)
-            .and_then(|()| std::fs::rename(&tmp, &p))
-            .map_err(|e| {
-                let _ = std::fs::remove_file(&tmp);
-                Error::io(p, e)
-            })
-    };
+    let write = |name: &str, text: &str| write_atomic(&args.out.join(name), text.as_bytes());
     for (name, svg) in &out.figures {
         write(name, svg)?;
     }

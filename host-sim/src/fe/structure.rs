@@ -300,9 +300,12 @@ pub fn lowest_modes(s: &Structure, count: usize) -> crate::Result<Vec<Mode>> {
             format!("must be between 1 and {n} (DOFs), got {count}"),
         ));
     }
+    let factor = SparseCholesky::new(&s.k)
+        .map_err(|e| Error::numerical(format!("structure stiffness: {e}")))?;
+    let (ks, ms) = (SymSparse::new(&s.k), SymSparse::new(&s.m));
     let mut p = (2 * count + 8).min(n);
     loop {
-        if let Some(modes) = subspace(s, count, p)? {
+        if let Some(modes) = subspace(s, (&factor, &ks, &ms), count, p)? {
             return Ok(modes);
         }
         if p == n {
@@ -318,14 +321,16 @@ pub fn lowest_modes(s: &Structure, count: usize) -> crate::Result<Vec<Mode>> {
 /// case measured, 30 paper-5 spans at 12 modes, takes 91).
 pub const ITERATIONS_PER_BLOCK: usize = 200;
 
-/// One run of [`lowest_modes`] with a block of `p` vectors: `None` when it has not converged
-/// in [`ITERATIONS_PER_BLOCK`] iterations.
-fn subspace(s: &Structure, count: usize, p: usize) -> crate::Result<Option<Vec<Mode>>> {
+/// One run of [`lowest_modes`] with a block of `p` vectors, given K's factor and the products
+/// by K and M: `None` when it has not converged in [`ITERATIONS_PER_BLOCK`] iterations.
+fn subspace(
+    s: &Structure,
+    (factor, ks, ms): (&SparseCholesky, &SymSparse, &SymSparse),
+    count: usize,
+    p: usize,
+) -> crate::Result<Option<Vec<Mode>>> {
     let n = s.dofs();
-    let factor = SparseCholesky::new(&s.k)
-        .map_err(|e| Error::numerical(format!("structure stiffness: {e}")))?;
     let mut scratch = factor.scratch();
-    let (ks, ms) = (SymSparse::new(&s.k), SymSparse::new(&s.m));
     let mul = |a: &SymSparse, x: &DMatrix<f64>| {
         let mut y = DMatrix::zeros(x.nrows(), x.ncols());
         for c in 0..x.ncols() {
@@ -347,14 +352,14 @@ fn subspace(s: &Structure, count: usize, p: usize) -> crate::Result<Option<Vec<M
     });
     let mut previous = vec![f64::INFINITY; count];
     for _ in 0..ITERATIONS_PER_BLOCK {
-        let mut y = mul(&ms, &x);
+        let mut y = mul(ms, &x);
         for c in 0..p {
             let mut col = y.column(c).into_owned();
             factor.solve_in_place(col.as_mut_slice(), &mut scratch);
             y.set_column(c, &col);
         }
-        let kr = y.transpose() * mul(&ks, &y);
-        let mr = y.transpose() * mul(&ms, &y);
+        let kr = y.transpose() * mul(ks, &y);
+        let mr = y.transpose() * mul(ms, &y);
         let (lambda, q) = generalized(
             &((&kr + kr.transpose()) * 0.5),
             &((&mr + mr.transpose()) * 0.5),
@@ -370,7 +375,7 @@ fn subspace(s: &Structure, count: usize, p: usize) -> crate::Result<Option<Vec<M
             .all(|(a, b)| (a - b).abs() <= 1e-12 * a.abs());
         previous = now;
         if done {
-            let mx = mul(&ms, &x);
+            let mx = mul(ms, &x);
             return Ok(Some(
                 (0..count)
                     .map(|c| {

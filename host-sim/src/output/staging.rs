@@ -13,50 +13,66 @@ use std::path::{Path, PathBuf};
 /// The file that marks a directory as a maglev run's output.
 pub const MARKER: &str = ".maglev-output";
 
-/// The kinds of output directory, by marker file: (marker, what it is, the marker's text).
-const KINDS: [(&str, &str, &str); 2] = [
-    (
-        MARKER,
-        "a maglev run's output",
-        "maglev run output; the whole directory is replaced by the next run\n",
-    ),
-    (
-        crate::sweep::store::MARKER,
-        "a maglev sweep",
-        "maglev sweep (merged): runs/ holds one record per finished run\n",
-    ),
-];
+/// The kinds of output directory; each replaces only its own.
+#[derive(Clone, Copy)]
+enum Kind {
+    /// `run`, `hil`, `report`.
+    Run,
+    /// `sweep merge` (a sweep's own directory is kept by sweep/store.rs).
+    Sweep,
+}
+
+impl Kind {
+    const ALL: [Kind; 2] = [Kind::Run, Kind::Sweep];
+
+    /// The marker file, what the kind is called, and the marker's text.
+    fn marker(self) -> (&'static str, &'static str, &'static str) {
+        match self {
+            Kind::Run => (
+                MARKER,
+                "a maglev run's output",
+                "maglev run output; the whole directory is replaced by the next run\n",
+            ),
+            Kind::Sweep => (
+                crate::sweep::store::MARKER,
+                "a maglev sweep",
+                "maglev sweep (merged): runs/ holds one record per finished run\n",
+            ),
+        }
+    }
+}
 
 /// A run's output being written.
 pub struct Staging {
     target: PathBuf,
     tmp: PathBuf,
-    kind: usize,
+    kind: Kind,
 }
 
 impl Staging {
     /// Checks that `target` may be replaced by a run's output and creates the staging
     /// directory beside it.
     pub fn new(target: &Path) -> Result<Self> {
-        Self::of_kind(target, 0)
+        Self::of_kind(target, Kind::Run)
     }
 
     /// The same for a merged sweep (`sweep merge`): replaces a sweep directory, never a run's.
     pub fn sweep(target: &Path) -> Result<Self> {
-        Self::of_kind(target, 1)
+        Self::of_kind(target, Kind::Sweep)
     }
 
-    fn of_kind(target: &Path, kind: usize) -> Result<Self> {
+    fn of_kind(target: &Path, kind: Kind) -> Result<Self> {
         if target.exists() {
-            let (marker, what, _) = KINDS[kind];
+            let (marker, what, _) = kind.marker();
             let is_ours = target.join(marker).is_file();
             let empty = std::fs::read_dir(target)
                 .map_err(|e| Error::io(target, e))?
                 .next()
                 .is_none();
             if !is_ours && !empty {
-                let is = KINDS
+                let is = Kind::ALL
                     .iter()
+                    .map(|k| k.marker())
                     .find(|(m, _, _)| target.join(m).is_file())
                     .map_or("not a maglev output".to_string(), |(m, w, _)| {
                         format!("{w} ({m}), not {what}")
@@ -105,7 +121,7 @@ impl Staging {
 
     /// Moves the complete run into place, replacing the previous output of its kind there.
     pub fn finish(self) -> Result<()> {
-        let (marker, _, text) = KINDS[self.kind];
+        let (marker, _, text) = self.kind.marker();
         self.put(marker, text)?;
         let old = self.tmp.with_extension("old");
         if self.target.exists() {
@@ -115,6 +131,21 @@ impl Staging {
         let _ = std::fs::remove_dir_all(&old);
         Ok(())
     }
+}
+
+/// Writes `text` to `path` through a sibling temporary file and a rename.
+pub fn write_atomic(path: &Path, text: &[u8]) -> Result<()> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = path.with_file_name(format!(
+        ".{name}.tmp-{}-{:?}",
+        std::process::id(),
+        std::thread::current().id()
+    ));
+    std::fs::write(&tmp, text).map_err(|e| Error::io(&tmp, e))?;
+    std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
 }
 
 impl Drop for Staging {

@@ -112,20 +112,7 @@ pub struct Record {
     pub wall_s: f64,
 }
 
-/// Writes `text` to `path` through a sibling temporary file and a rename.
-pub fn write_atomic(path: &Path, text: &[u8]) -> Result<()> {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(
-        ".{name}.tmp-{}-{:?}",
-        std::process::id(),
-        std::thread::current().id()
-    ));
-    std::fs::write(&tmp, text).map_err(|e| Error::io(&tmp, e))?;
-    std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
-}
+pub use crate::output::write_atomic;
 
 /// An open sweep directory.
 pub struct Store {
