@@ -204,6 +204,8 @@ impl<T: RealField + Copy> WheelShape<T> {
 /// In both, the pair's gaps are `h_L = h0 + d`, `h_R = h0 − d` with `d = y_w − y_g + r_y`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Geometry {
     /// The paper's literal Eq. 2 (default).
     #[default]

@@ -57,6 +57,7 @@ use crate::scalar::Scalar;
 /// Outer-loop gains, per unit of the inner law's `(g0, h0)` (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct GapParams {
     /// Proportional gain `kp = (Δg_ref/g0)/(Δh/h0)`; > 0 holds the gap under "ems", < 0
     /// under "paper".

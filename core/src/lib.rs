@@ -6,6 +6,7 @@ pub mod gap_control;
 pub mod guidance;
 pub mod irregularity;
 pub mod irregularity_fast;
+pub mod law;
 pub mod levitation;
 pub mod scalar;
 mod trig;
@@ -13,4 +14,5 @@ mod trig;
 pub use levitation::{
     Interpolation, Levitation, Output, ParamError, Params, Scheme, State, Status,
 };
+pub use law::{Law, LawKind, LawName, LawParams, LawState, Measurement};
 pub use scalar::Scalar;

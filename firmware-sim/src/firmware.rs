@@ -1,5 +1,5 @@
 //! The firmware's control loop: sample every gap sensor over SPI, supervise, run the core's
-//! levitation law (one Eq. 14 update per tick, under the paper's law or the gap loop), drive
+//! levitation law (`maglev_core::Law`: one update per tick, whichever law is configured), drive
 //! each coil's H-bridge PWM.
 //!
 //! Generic over the embedded-hal 1.0 traits (`SpiDevice` for the ADC, `SetDutyCycle` per
@@ -14,7 +14,7 @@
 //! computation delay: sample, compute, apply at the next period).
 //!
 //! # Gap loop
-//! With [`LawConfig::GapLoop`] every channel (levitation and each guidance magnet, as
+//! With `LawKind::GapLoop` every channel (levitation and each guidance magnet, as
 //! `maglev_core::gap_control::GapLoop::update_pair` treats a pair) runs the core's outer gap
 //! loop once per tick, compiled for `Δt = 1/rate`: the reference from the channel's previous
 //! sample (held over the tick, one tick of delay), the filter advanced by backward Euler over
@@ -37,21 +37,22 @@
 use crate::adc::read_channel;
 use crate::hbridge::duty_for;
 use crate::protocol::{
-    ChannelOut, Config, ConfigFault, ConfigKey, LawConfig, Problem, MAX_CHANNELS,
+    ChannelOut, Config, ConfigFault, ConfigKey, Problem, MAX_CHANNELS,
 };
 use crate::supervision::{check, Event, Limits, Mode, SensorState};
 use crate::validate::{check_config, law_fault};
 use embedded_hal::pwm::SetDutyCycle;
 use embedded_hal::spi::SpiDevice;
 use heapless::Vec;
-use maglev_core::gap_control::{GapLoop, GapParams, GapState};
-use maglev_core::{Interpolation, Levitation, Params, Scalar, Status};
+use maglev_core::{
+    Interpolation, Law, LawParams, LawState, Levitation, Measurement, Params, Scalar, Status,
+};
 
 /// One channel's state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ChannelState<S> {
-    /// The law's state (the gap loop's filter `q` unused under the paper's law).
-    pub law: GapState<S>,
+    /// The law's state ([`maglev_core::law`]).
+    pub law: LawState<S>,
     pub sensor: SensorState,
     /// The previous tick's sample (for the one-sample delay).
     pub delayed: u16,
@@ -73,10 +74,8 @@ pub struct FwState<S> {
 pub struct Firmware<S, SPI, PWM> {
     spi: SPI,
     pwm: Vec<PWM, MAX_CHANNELS>,
-    laws: Vec<Levitation<S>, MAX_CHANNELS>,
+    laws: Vec<Law<S>, MAX_CHANNELS>,
     coils: Vec<Levitation<S>, MAX_CHANNELS>,
-    /// The outer gap loop (one for every channel), when configured.
-    outer: Option<GapLoop<S>>,
     /// `h/h0` of code 0, and of the full 2^bits span.
     gap_offset: S,
     gap_span: S,
@@ -108,24 +107,6 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         let mut coils = Vec::new();
         let mut st = FwState::<S>::default();
         let full_scale = ((1u32 << cfg.adc_bits) - 1) as u16;
-        let outer = match cfg.law {
-            LawConfig::Paper => None,
-            LawConfig::GapLoop {
-                kp,
-                kd,
-                tf,
-                x_ref_max,
-            } => Some(
-                GapParams {
-                    kp,
-                    kd,
-                    tf,
-                    x_ref_max,
-                }
-                .compile::<S>(1.0 / cfg.rate_hz as f64)
-                .map_err(|e| law_fault(e, None))?,
-            ),
-        };
         for (k, ch) in cfg.channels.iter().enumerate() {
             let p = Params {
                 i0: cfg.i0,
@@ -143,7 +124,12 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
                 scheme: maglev_core::Scheme::Paper,
             };
             let channel = Some(k as u8);
-            let law = p.compile::<S>().map_err(|e| law_fault(e, channel))?;
+            let law = LawParams {
+                magnet: p,
+                kind: cfg.law,
+            }
+            .compile::<S>()
+            .map_err(|e| law_fault(e, channel))?;
             let coil = Params {
                 kp: 0.0,
                 ki: 0.0,
@@ -154,14 +140,10 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
             .map_err(|e| law_fault(e, channel))?;
             let code = libm::round((ch.gap - cfg.adc_offset_m) / cfg.adc_lsb_m)
                 .clamp(1.0, full_scale as f64 - 1.0) as u16;
-            let inner = law
-                .try_equilibrium_state(ch.gap)
-                .map_err(|e| law_fault(e, channel))?;
             st.ch[k] = ChannelState {
-                law: GapState {
-                    inner,
-                    q: inner.eta,
-                },
+                law: law
+                    .try_equilibrium_state(ch.gap)
+                    .map_err(|e| law_fault(e, channel))?,
                 sensor: SensorState {
                     last_good: code,
                     last_raw: code,
@@ -192,7 +174,6 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
             pwm,
             laws,
             coils,
-            outer,
             gap_offset,
             gap_span,
             adc_bits: cfg.adc_bits,
@@ -314,14 +295,8 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
                 let target = ch.ramp_from.smul(ramp_factor, &mut ov);
                 ch.law.inner.y = target.ssub(S::ONE, &mut ov);
                 self.coils[k].update(&mut ch.law.inner, h)
-            } else if let Some(outer) = &self.outer {
-                let o = outer.update(&self.laws[k], &mut ch.law, h);
-                if o.reference_limited {
-                    events.raise(Event::REFERENCE_LIMITED);
-                }
-                o.inner
             } else {
-                self.laws[k].update(&mut ch.law.inner, h)
+                self.laws[k].update(&mut ch.law, Measurement::gap(h))
             };
             events.raise(map_status(out.status));
             if self.apply(k, out.voltage) {
@@ -344,7 +319,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
     /// Channel `k`'s `g/g0`, coil current `i/i0` (both Q4.28) and duty.
     pub fn output(&self, k: usize) -> ChannelOut {
         let ch = &self.st.ch[k];
-        let out = self.laws[k].output(&ch.law.inner);
+        let out = self.laws[k].levitation().output(&ch.law.inner);
         ChannelOut {
             g_q28: q28(out.g),
             current_q28: q28(out.current),
@@ -359,13 +334,18 @@ fn q28<S: Scalar>(x: S) -> i32 {
     q.clamp(i32::MIN as f64, i32::MAX as f64) as i32
 }
 
+/// The law's events as firmware events (none in a quiet tick: one test, not five).
 fn map_status(s: Status) -> Event {
     let mut e = Event::default();
+    if s.is_empty() {
+        return e;
+    }
     for (from, to) in [
         (Status::COLLISION, Event::CONTACT),
         (Status::VOLTAGE_SATURATED, Event::VOLTAGE_SATURATED),
         (Status::CURRENT_CLAMPED, Event::CURRENT_CLAMPED),
         (Status::OVERFLOW, Event::OVERFLOW),
+        (Status::REFERENCE_LIMITED, Event::REFERENCE_LIMITED),
     ] {
         if s.contains(from) {
             e.raise(to);

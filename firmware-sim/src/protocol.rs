@@ -17,6 +17,8 @@
 //! Everything here is allocation-free (heapless, fixed buffers) and builds for bare metal.
 
 use heapless::Vec;
+/// The law types of [`Config::law`]: the core's own, serialised as they are.
+pub use maglev_core::{gap_control::GapParams, LawKind};
 use serde::{Deserialize, Serialize};
 
 /// Protocol version carried in every envelope; a mismatch is answered with [`Nack::Version`].
@@ -70,8 +72,10 @@ pub struct Config {
     pub ki: f64,
     pub alpha: f64,
     pub v_max: f64,
-    /// The levitation law of every channel.
-    pub law: LawConfig,
+    /// The levitation law of every channel (the core's own type: its postcard layout is the
+    /// wire's). Gains per unit of the inner law, as `maglev_core::LawKind` documents; the gap
+    /// loop runs once per control tick on the channel's sampled gap.
+    pub law: LawKind,
     /// Per channel: static load p0 (N) and initial gap (m); the controller starts in
     /// equilibrium at that gap.
     pub channels: Vec<ChannelInit, MAX_CHANNELS>,
@@ -92,22 +96,6 @@ pub struct Config {
     /// fault reaction (0 = off; otherwise more than `ticks_per_step`). See
     /// [`crate::server::Server::timer_tick`].
     pub watchdog_ticks: u16,
-}
-
-/// Which levitation law the firmware runs on every channel.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub enum LawConfig {
-    /// The paper's PI law on `g = i/h` (Eq. 8–14).
-    Paper,
-    /// `maglev_core::gap_control`'s outer gap loop setting the paper's law's reference, run
-    /// once per control tick on the channel's sampled gap. Gains per unit, as
-    /// `maglev_core::gap_control::GapParams`: `kp`, `kd` (s), `tf` (s), `x_ref_max`.
-    GapLoop {
-        kp: f64,
-        kd: f64,
-        tf: f64,
-        x_ref_max: f64,
-    },
 }
 
 /// One magnet channel's static load (N) and initial gap (m).

@@ -1,8 +1,8 @@
-//! The firmware under `LawConfig::GapLoop` runs the core's outer gap loop once per control
+//! The firmware under `LawKind::GapLoop` runs the core's outer gap loop once per control
 //! tick on each channel's sampled gap: bit for bit `GapLoop::update` compiled for
 //! `Δt = 1/rate` (I4F28), and different from the paper's law on the same samples.
 
-use maglev_core::gap_control::{GapParams, GapState};
+use maglev_core::gap_control::GapState;
 use maglev_core::scalar::I4F28;
 use maglev_core::{Interpolation, Params, Scalar, Scheme};
 use maglev_firmware_sim::heapless::Vec as HVec;
@@ -32,7 +32,7 @@ fn inner_params() -> Params {
     }
 }
 
-fn config(law: LawConfig) -> Config {
+fn config(law: LawKind) -> Config {
     let p = inner_params();
     let mut channels = HVec::new();
     channels
@@ -67,14 +67,8 @@ fn config(law: LawConfig) -> Config {
     }
 }
 
-fn gap_loop() -> LawConfig {
-    let g = GapParams::designed();
-    LawConfig::GapLoop {
-        kp: g.kp,
-        kd: g.kd,
-        tf: g.tf,
-        x_ref_max: g.x_ref_max,
-    }
+fn gap_loop() -> LawKind {
+    LawKind::GapLoop(GapParams::designed())
 }
 
 /// The code of tick `k`: the gap steps 0.1 mm open, then oscillates by a few codes.
@@ -84,7 +78,7 @@ fn code(k: usize) -> u16 {
 }
 
 /// `g_q28` of channel 0 after each of `steps` committed steps.
-fn firmware_run(law: LawConfig, steps: usize) -> Vec<i32> {
+fn firmware_run(law: LawKind, steps: usize) -> Vec<i32> {
     let mut s = Server::new();
     let mut seq = 1;
     let mut call = |msg| {
@@ -141,7 +135,7 @@ fn firmware_gap_loop_is_the_cores_loop_once_per_tick() {
     assert!(!ov);
     assert_eq!(fw, want);
     // The gap opened by 0.1 mm: the gap loop raises the flux above the paper's law's.
-    let paper = firmware_run(LawConfig::Paper, steps);
+    let paper = firmware_run(LawKind::Paper, steps);
     assert_ne!(fw, paper);
     assert!(fw[steps - 1] > paper[steps - 1], "{fw:?} vs {paper:?}");
 }

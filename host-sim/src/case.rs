@@ -19,7 +19,8 @@ use crate::probes::{Extent, Probes};
 use crate::scenario::{
     self, BridgeKind, BridgeSection, LawKey, Model, Scenario, SchemeKey, VehicleSection,
 };
-use crate::simulation::{Law, MovingLoad};
+use crate::simulation::MovingLoad;
+use maglev_core::LawKind;
 use crate::vehicle::{Fig1, Train, VehicleModel};
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
@@ -106,7 +107,7 @@ pub struct Case {
     /// train without magnets (forces, wheel/rail), whose scenario needs no `[controller]`.
     pub controller: Option<Params>,
     /// The levitation law, gap-loop gains designed for this vehicle (docs/gap-loop.md).
-    pub law: Law,
+    pub law: LawKind,
     pub geometry: Geometry,
     /// The irregularity's seed, when the irregularity is on.
     pub irregularity_seed: Option<u64>,
@@ -351,8 +352,8 @@ impl Case {
             })
         });
         let law = match self.law {
-            Law::Paper => json!({ "kind": "paper" }),
-            Law::GapLoop(g) => json!({
+            LawKind::Paper => json!({ "kind": "paper" }),
+            LawKind::GapLoop(g) => json!({
                 "kind": "gap-loop", "kp": g.kp, "kd_s": g.kd, "tf_s": g.tf,
                 "x_ref_max": g.x_ref_max,
             }),
@@ -902,14 +903,14 @@ fn law(
     controller: Option<&Params>,
     geometry: Geometry,
     dt: f64,
-) -> Result<Law> {
+) -> Result<LawKind> {
     let (key, controller) = match (sc.controller.as_ref(), controller) {
         (Some(c), Some(p)) => (c.law, p),
-        _ => return Ok(Law::Paper),
+        _ => return Ok(LawKind::Paper),
     };
     match key {
-        LawKey::Paper => Ok(Law::Paper),
-        LawKey::GapLoop => Ok(Law::GapLoop(match train {
+        LawKey::Paper => Ok(LawKind::Paper),
+        LawKey::GapLoop => Ok(LawKind::GapLoop(match train {
             // Gains designed for this case's car, inner law and geometry (docs/gap-loop.md);
             // a train of forces has no magnets to run them.
             TrainCase::Fig1 { car, .. } => {
@@ -983,7 +984,7 @@ mod tests {
         assert_eq!((car.body_mass, car.jy, *cars), (15_000.0, 950e3, 1));
         // (25 m bridge + 15 m wheelbase) / 100 m/s + 0.1 s
         assert!((c.t_end - 0.5).abs() < 1e-12);
-        assert_eq!(c.law, Law::Paper);
+        assert_eq!(c.law, LawKind::Paper);
         assert_eq!(c.controller.unwrap().scheme, Scheme::Paper);
         let f = Case::load("moving-force", &[]).unwrap();
         assert_eq!(
@@ -1000,7 +1001,7 @@ mod tests {
     #[test]
     fn laws_and_schemes_resolve() {
         let c = Case::load("paper-4.2", &["law=gap-loop".into()]).unwrap();
-        assert!(matches!(c.law, Law::GapLoop(g) if g.kp < 0.0));
+        assert!(matches!(c.law, LawKind::GapLoop(g) if g.kp < 0.0));
         let c = Case::load("paper-4.2", &["scheme=accurate".into()]).unwrap();
         assert_eq!(c.controller.unwrap().scheme, Scheme::Accurate);
     }

@@ -26,8 +26,7 @@ use crate::probes::{Recorder, StepView, Wheels};
 use crate::vehicle::{Node, Train};
 use crate::{Error, Result};
 use maglev_core::gap::{self, Geometry};
-use maglev_core::gap_control::GapParams;
-use maglev_core::{Params, Status};
+use maglev_core::{LawKind, Params, Status};
 use train::TrainState;
 
 /// What runs over the guideway.
@@ -69,16 +68,6 @@ impl Profiles {
     }
 }
 
-/// Which levitation law each magnet runs.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Law {
-    /// The paper's PI law on `g = i/h` alone (Eq. 8–14).
-    Paper,
-    /// The outer gap loop (`maglev_core::gap_control`) setting the paper's law's reference,
-    /// on every levitation and guidance magnet.
-    GapLoop(GapParams),
-}
-
 /// Run settings (SI).
 pub struct Settings {
     pub speed: f64,
@@ -86,8 +75,8 @@ pub struct Settings {
     pub t_end: f64,
     /// Controller parameters (p0 is replaced by each wheel's static load).
     pub controller: Params,
-    /// Levitation law.
-    pub law: Law,
+    /// The law of every levitation and guidance magnet (`maglev_core::law`).
+    pub law: LawKind,
     /// How the magnets face their rails (Eq. 2 and the guidance pair's sign, docs/model.md §2).
     pub geometry: Geometry,
     /// Convergence tolerance on the gaps between two iterations (m).

@@ -5,7 +5,7 @@
 use maglev_core::gap::Geometry;
 use maglev_core::irregularity::Direction;
 use maglev_core::levitation::GRAVITY;
-use maglev_core::Params;
+use maglev_core::{LawKind, Params};
 use maglev_host_sim::cars::fig6::Fig6;
 use maglev_host_sim::cars::wheel_rail::WheelRail;
 use maglev_host_sim::fe::viaduct::{paper5_viaduct, Viaduct};
@@ -14,7 +14,7 @@ use maglev_host_sim::guideway::{Bridge, Guideway};
 use maglev_host_sim::probes::{BodyQ, PierQ, Probe, Probes, Recorder, StepView, WheelQ};
 use maglev_host_sim::profile::Profile;
 use maglev_host_sim::setup::RigidGuideway;
-use maglev_host_sim::simulation::{simulate, Law, Load, Outcome, Profiles, Settings};
+use maglev_host_sim::simulation::{simulate, Load, Outcome, Profiles, Settings};
 use maglev_host_sim::vehicle::Train;
 
 const DT: f64 = 2e-3;
@@ -34,7 +34,7 @@ impl Recorder for Collect {
     }
 }
 
-fn settings(speed: f64, t_end: f64, law: Law, geometry: Geometry, midspans: Vec<f64>) -> Settings {
+fn settings(speed: f64, t_end: f64, law: LawKind, geometry: Geometry, midspans: Vec<f64>) -> Settings {
     Settings {
         speed,
         dt: DT,
@@ -50,12 +50,12 @@ fn settings(speed: f64, t_end: f64, law: Law, geometry: Geometry, midspans: Vec<
 }
 
 /// The gap-loop gains designed for the Fig. 6 carriage (docs/gap-loop.md).
-fn gap_loop(geometry: Geometry) -> Law {
+fn gap_loop(geometry: Geometry) -> LawKind {
     let car = Fig6::default().build(GRAVITY).unwrap();
     let d =
         maglev_host_sim::stability::design::design(&car, &Params::paper_wheel(DT), geometry, None)
             .unwrap();
-    Law::GapLoop(d.gains)
+    LawKind::GapLoop(d.gains)
 }
 
 /// The paper's Table 1 irregularity from x = −60 m over `length` (m), vertical and lateral.
@@ -88,7 +88,7 @@ fn fig6_train_on_a_rigid_rail_rests_when_smooth_and_flies_over_the_irregularity(
     let train = Train::fig6(2, GRAVITY).unwrap();
     let h0 = Params::paper_wheel(DT).h0;
     let cases = [
-        ("paper law, paper geometry", Law::Paper, Geometry::Paper),
+        ("paper law, paper geometry", LawKind::Paper, Geometry::Paper),
         (
             "gap loop, paper geometry",
             gap_loop(Geometry::Paper),
@@ -177,7 +177,7 @@ fn wheel_rail_contact_forces_on_a_smooth_rigid_rail_are_the_hand_axle_loads() {
         probes,
         rows: vec![],
     };
-    let s = settings(SPEED, 1.0, Law::Paper, Geometry::Paper, vec![]);
+    let s = settings(SPEED, 1.0, LawKind::Paper, Geometry::Paper, vec![]);
     let out = run(
         &mut RigidGuideway::new(DT),
         &train,
@@ -219,7 +219,7 @@ fn a_wheel_over_a_falling_rail_lifts_off_and_its_force_is_clamped_at_zero() {
         probes,
         rows: vec![],
     };
-    let s = settings(10.0, 0.5, Law::Paper, Geometry::Paper, vec![]);
+    let s = settings(10.0, 0.5, LawKind::Paper, Geometry::Paper, vec![]);
     let out = run(&mut RigidGuideway::new(DT), &train, &profiles, &s, &mut rec);
     // The static compression is P0/k_h ≈ 60 µm ≪ 1 mm: the leading wheel leaves the rail.
     assert!(out.contact_loss_steps > 0);
@@ -257,7 +257,7 @@ fn wheel_rail_car_over_one_span_at_low_speed_deflects_as_the_static_axle_loads()
     let v = 2.0;
     // Long enough for the last axle (20 m behind) to leave the span.
     let t_end = (l + 22.0) / v;
-    let s = settings(v, t_end, Law::Paper, Geometry::Paper, vec![l / 2.0]);
+    let s = settings(v, t_end, LawKind::Paper, Geometry::Paper, vec![l / 2.0]);
     let mut rec = Collect {
         probes: vec![],
         rows: vec![],
@@ -325,7 +325,7 @@ fn viaduct_run_on(
     let s = settings(
         SPEED,
         steps as f64 * DT,
-        Law::Paper,
+        LawKind::Paper,
         Geometry::Paper,
         midspans,
     );

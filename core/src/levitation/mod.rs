@@ -65,6 +65,8 @@ pub mod batch;
 /// How the gap is interpolated inside one outer step for the internal loop (docs/model.md §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Interpolation {
     /// Linear between `h^t` and `h^{t+Δt}`.
     Linear,
@@ -75,6 +77,8 @@ pub enum Interpolation {
 /// Which integrator advances the coil + PI equations over one outer step.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Scheme {
     /// The paper's Eq. 14, `n_sub` times per outer step (first order in `Δt/n_sub`).
     #[default]
@@ -86,6 +90,7 @@ pub enum Scheme {
 /// Controller parameters in SI units, designed in `f64` (paper §4.2 values from [`Params::paper`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Params {
     /// Nominal current i0 (A).
     pub i0: f64,
@@ -490,6 +495,9 @@ impl Status {
     pub const OVERFLOW: Status = Status(8);
     /// The gap input was NaN or beyond the accepted range; state held or gap clamped.
     pub const INVALID_INPUT: Status = Status(16);
+    /// A law's own reference or command reached its bound (the gap loop's `x_ref_max`,
+    /// [`crate::law`]); never raised by the paper's law.
+    pub const REFERENCE_LIMITED: Status = Status(32);
 
     /// No event.
     pub const fn is_empty(self) -> bool {

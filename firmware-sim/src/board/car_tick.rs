@@ -10,7 +10,7 @@ use crate::adc::AdcChip;
 use crate::board::selftest::Measure;
 use crate::firmware::Firmware;
 use crate::hbridge::HBridge;
-use crate::protocol::{ChannelInit, Config, LawConfig, ScalarKind, MAX_CHANNELS};
+use crate::protocol::{ChannelInit, Config, LawKind, ScalarKind, MAX_CHANNELS};
 use core::fmt::{self, Write};
 use heapless::Vec;
 use maglev_core::Scalar;
@@ -42,7 +42,7 @@ pub fn car_config(scalar: ScalarKind, v_max: f64) -> Config {
         ki: 6.0,
         alpha: 0.5,
         v_max,
-        law: LawConfig::Paper,
+        law: LawKind::Paper,
         channels,
         adc_bits: 16,
         adc_lsb_m: 0.02 / 65536.0,

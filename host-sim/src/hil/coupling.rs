@@ -12,13 +12,13 @@
 use super::board::{force, Sensors};
 use super::link::Link;
 use super::HilSettings;
-use crate::simulation::{magnet_gaps, Law, Magnets, Settings, WheelGaps};
+use crate::simulation::{magnet_gaps, Magnets, Settings, WheelGaps};
 use crate::vehicle::Train;
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::Status;
 use maglev_firmware_sim::protocol::{
-    ChannelInit, Config, LawConfig, Nack, Reply, Request, Response,
+    ChannelInit, Config, Nack, Reply, Request, Response,
 };
 use maglev_firmware_sim::supervision::Event;
 
@@ -96,15 +96,7 @@ impl<'a> FirmwareMagnets<'a> {
             alpha: p.alpha,
             v_max: p.v_max,
             // The gap loop runs in the firmware at the tick rate (docs/gap-loop.md).
-            law: match s.law {
-                Law::Paper => LawConfig::Paper,
-                Law::GapLoop(g) => LawConfig::GapLoop {
-                    kp: g.kp,
-                    kd: g.kd,
-                    tf: g.tf,
-                    x_ref_max: g.x_ref_max,
-                },
-            },
+            law: s.law,
             channels,
             adc_bits: hs.adc.bits,
             adc_lsb_m: hs.adc.lsb_m,

@@ -1,26 +1,24 @@
 //! The ideal magnets of `maglev run`: per wheel the core's levitation law and guidance pair in
 //! f64 on the exact gaps at the end of each step — the paper's scheme, with its internal loop
-//! (`n_sub`) interpolating the gap inside the step — under either [`Law`]. Calls the core;
-//! never a host copy of a law.
+//! (`n_sub`) interpolating the gap inside the step — under any [`maglev_core::Law`]. Calls the
+//! core; never a host copy of a law.
 
-use super::{Law, Magnets, Settings, WheelGaps};
+use super::{Magnets, Settings, WheelGaps};
 use crate::vehicle::Train;
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
-use maglev_core::gap_control::{GapLoop, GapPairState, GapState};
 use maglev_core::guidance;
 use maglev_core::levitation::batch::update_batch;
 use maglev_core::levitation::{Output, State};
-use maglev_core::{Levitation, Status};
+use maglev_core::{Law, LawParams, LawState, Levitation, Measurement, Status};
 
 struct WheelCtl {
-    lev: Levitation<f64>,
-    /// The outer gap loop, when selected.
-    outer: Option<GapLoop<f64>>,
-    /// Inner state (and the outer loop's filter, unused under the paper's law).
-    lev_state: GapState<f64>,
-    /// Guidance pair (the filters unused under the paper's law).
-    pair: GapPairState<f64>,
+    /// The law of the wheel's three magnets.
+    law: Law<f64>,
+    /// The levitation magnet's state.
+    lev_state: LawState<f64>,
+    /// The guidance pair's states, `[left, right]`.
+    pair: [LawState<f64>; 2],
 }
 
 /// The trial state of a step, if any.
@@ -47,7 +45,7 @@ pub struct CoreMagnets {
     mag_out: Vec<Output<f64>>,
     /// The trial of the general path (one entry per wheel); the paper batch's trial is the
     /// inner states in `mag_st` (its filters `q` stay the committed ones).
-    trial: Vec<(GapState<f64>, GapPairState<f64>)>,
+    trial: Vec<(LawState<f64>, [LawState<f64>; 2])>,
     /// Which trial the last `forces` left.
     pending: Pending,
     status: Status,
@@ -60,41 +58,25 @@ impl CoreMagnets {
     pub fn new(v: &Train, gaps0: &[WheelGaps], s: &Settings) -> Result<Self> {
         let mut ctl = Vec::with_capacity(v.wheels.len());
         for (&p0, &(h_init, gy)) in v.p0.iter().zip(gaps0) {
-            let mut p = s.controller;
-            p.p0 = p0;
-            p.dt = s.dt;
-            let lev = p
-                .compile::<f64>()
-                .map_err(|e| Error::invalid("controller", e.to_string()))?;
-            let outer = match s.law {
-                Law::Paper => None,
-                Law::GapLoop(g) => Some(
-                    g.compile::<f64>(s.dt)
-                        .map_err(|e| Error::invalid("controller.law", e.to_string()))?,
-                ),
-            };
-            let inner = lev.equilibrium_state(h_init);
-            let pair = guidance::initial_state(&lev, gy);
+            let mut magnet = s.controller;
+            magnet.p0 = p0;
+            magnet.dt = s.dt;
+            let law = LawParams {
+                magnet,
+                kind: s.law,
+            }
+            .compile::<f64>()
+            .map_err(|e| Error::invalid("controller", e.to_string()))?;
             ctl.push(WheelCtl {
-                lev_state: GapState {
-                    inner,
-                    q: inner.eta,
-                },
-                outer,
-                pair: GapPairState {
-                    left: GapState {
-                        inner: pair.left,
-                        q: pair.left.eta,
-                    },
-                    right: GapState {
-                        inner: pair.right,
-                        q: pair.right.eta,
-                    },
-                },
-                lev,
+                lev_state: law.equilibrium_state(h_init),
+                pair: law.pair_equilibrium_state(gy),
+                law,
             });
         }
-        let mags: Vec<Levitation<f64>> = ctl.iter().flat_map(|c| [c.lev; 3]).collect();
+        let mags: Vec<Levitation<f64>> = ctl
+            .iter()
+            .flat_map(|c| [*c.law.levitation(); 3])
+            .collect();
         let n = mags.len();
         let mut m = CoreMagnets {
             mags,
@@ -115,7 +97,7 @@ impl CoreMagnets {
     /// `mag_committed` from the wheels' committed states.
     fn gather_committed(&mut self) {
         for (c, st) in self.ctl.iter().zip(self.mag_committed.chunks_exact_mut(3)) {
-            st.copy_from_slice(&[c.lev_state.inner, c.pair.left.inner, c.pair.right.inner]);
+            st.copy_from_slice(&[c.lev_state.inner, c.pair[0].inner, c.pair[1].inner]);
         }
     }
 }
@@ -136,7 +118,7 @@ impl CoreMagnets {
             .zip(gaps_next)
             .zip(self.mag_h.chunks_exact_mut(3))
         {
-            let h0 = c.lev.params().h0;
+            let h0 = c.law.levitation().params().h0;
             let d = dy / h0;
             h.copy_from_slice(&[hz / h0, 1.0 + d, 1.0 - d]);
         }
@@ -150,42 +132,30 @@ impl CoreMagnets {
             .zip(&mut out[..n])
         {
             let (lev_out, mut l, mut r) = (o[0], o[1], o[2]);
-            let d = dy / c.lev.params().h0;
+            let magnet = c.law.levitation().params();
+            let d = dy / magnet.h0;
             let pair_out = guidance::update_with(self.geometry, &mut l, &mut r, d, |o, _| *o);
             status = status.union(lev_out.status).union(pair_out.status);
-            let p0 = c.lev.params().p0;
+            let p0 = magnet.p0;
             *out = (lev_out.force * p0, pair_out.force_y * p0);
         }
         self.status = status;
         self.pending = Pending::Batch;
     }
 
-    /// Every wheel by its own law (either law, any gap): the trial in `trial`
+    /// Every wheel by its own law (any law, any gap): the trial in `trial`
     /// ([`Pending::General`]).
     fn general(&mut self, gaps_next: &[WheelGaps], out: &mut [(f64, f64)]) {
         for (i, c) in self.ctl.iter().enumerate() {
             let (hz, dy) = gaps_next[i];
-            let h0 = c.lev.params().h0;
+            let magnet = c.law.levitation().params();
+            let h0 = magnet.h0;
             let mut st = c.lev_state;
-            let lev_out = match &c.outer {
-                Some(o) => o.update(&c.lev, &mut st, hz / h0).inner,
-                None => c.lev.update(&mut st.inner, hz / h0),
-            };
+            let lev_out = c.law.update(&mut st, Measurement::gap(hz / h0));
             let mut pair = c.pair;
-            let pair_out = match &c.outer {
-                Some(o) => o.update_pair(&c.lev, self.geometry, &mut pair, dy / h0),
-                None => {
-                    let mut ps = guidance::PairState {
-                        left: pair.left.inner,
-                        right: pair.right.inner,
-                    };
-                    let o = guidance::update(&c.lev, self.geometry, &mut ps, dy / h0);
-                    (pair.left.inner, pair.right.inner) = (ps.left, ps.right);
-                    o
-                }
-            };
+            let pair_out = c.law.update_pair(self.geometry, &mut pair, dy / h0);
             self.status = self.status.union(lev_out.status).union(pair_out.status);
-            let p0 = c.lev.params().p0;
+            let p0 = magnet.p0;
             out[i] = (lev_out.force * p0, pair_out.force_y * p0);
             self.trial.push((st, pair));
         }
@@ -208,7 +178,7 @@ impl Magnets for CoreMagnets {
         self.pending = Pending::None;
         self.status = Status::default();
         let finite = gaps_next.iter().all(|g| g.0.is_finite() && g.1.is_finite());
-        if finite && self.ctl.iter().all(|c| c.outer.is_none()) {
+        if finite && self.ctl.iter().all(|c| c.law.is_paper()) {
             self.paper_batch(gaps_next, out);
         } else {
             self.general(gaps_next, out);
@@ -222,8 +192,8 @@ impl Magnets for CoreMagnets {
             Pending::Batch => {
                 for (c, st) in self.ctl.iter_mut().zip(self.mag_st.chunks_exact(3)) {
                     c.lev_state.inner = st[0];
-                    c.pair.left.inner = st[1];
-                    c.pair.right.inner = st[2];
+                    c.pair[0].inner = st[1];
+                    c.pair[1].inner = st[2];
                 }
                 self.mag_committed.copy_from_slice(&self.mag_st);
             }
@@ -274,7 +244,7 @@ mod tests {
                 dt: 1e-3,
                 t_end: 0.3,
                 controller,
-                law: Law::Paper,
+                law: maglev_core::LawKind::Paper,
                 geometry: Geometry::Paper,
                 tolerance: 1e-9,
                 max_iterations: 10,

@@ -32,7 +32,7 @@
 use super::gap_loop::GapLoopPlant;
 use super::plant::Suspension;
 use super::vehicle::VehiclePlant;
-use crate::simulation::Law;
+use maglev_core::LawKind;
 use crate::vehicle::VehicleModel;
 use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
@@ -109,7 +109,7 @@ fn vehicle_abscissa(
     [None, delay]
         .into_iter()
         .map(|d| {
-            VehiclePlant::sampled(v, inner, &Law::GapLoop(*g), geometry, d)
+            VehiclePlant::sampled(v, inner, &LawKind::GapLoop(*g), geometry, d)
                 .and_then(|pl| pl.verdict())
                 .map_or(f64::INFINITY, |vd| vd.max_real_part)
         })

@@ -43,7 +43,7 @@ pub struct ScenarioReport {
 
 /// Computes the scenario report (no printing).
 pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioReport> {
-    use crate::simulation::Law;
+    use maglev_core::LawKind;
     use crate::stability::gap_loop::GapLoopPlant;
     use crate::stability::vehicle::{critical_magnet_mass, VehiclePlant, ZERO_POLE};
     let case = Case::load(name, sets)?;
@@ -78,8 +78,8 @@ pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioRep
         "no zero pole: the gap loop restores every gap to h0".to_string()
     };
     let gap_loop = match law {
-        Law::Paper => None,
-        Law::GapLoop(g) => {
+        LawKind::Paper => None,
+        LawKind::GapLoop(g) => {
             let loops = crate::stability::design::per_magnet_loops(&v, &inner);
             let (p, s, body) = loops
                 .first()
@@ -110,8 +110,8 @@ pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioRep
             Geometry::Ems => "ems",
         },
         law: match law {
-            Law::Paper => "paper",
-            Law::GapLoop(_) => "gap-loop",
+            LawKind::Paper => "paper",
+            LawKind::GapLoop(_) => "gap-loop",
         },
         magnet_mass_kg: fig.wheel_mass,
         states: plant.a.nrows(),

@@ -38,7 +38,7 @@
 use super::gloop::Loop;
 use super::magnet::{self, Slots};
 use super::Complex;
-use crate::simulation::Law;
+use maglev_core::LawKind;
 use crate::vehicle::{Fig1, VehicleModel};
 use maglev_core::gap::{self, Geometry};
 use maglev_core::levitation::GRAVITY;
@@ -100,7 +100,7 @@ impl VehiclePlant {
     pub fn new(
         v: &VehicleModel,
         inner: &Params,
-        law: &Law,
+        law: &LawKind,
         geometry: Geometry,
     ) -> crate::Result<Self> {
         Self::sampled(v, inner, law, geometry, None)
@@ -112,7 +112,7 @@ impl VehiclePlant {
     pub fn sampled(
         v: &VehicleModel,
         inner: &Params,
-        law: &Law,
+        law: &LawKind,
         geometry: Geometry,
         delay: Option<f64>,
     ) -> crate::Result<Self> {
@@ -163,8 +163,8 @@ impl VehiclePlant {
 
         // State layout: q (n), v_a (na), then per wheel: lev, guide L, guide R magnets.
         let gains = match law {
-            Law::Paper => None,
-            Law::GapLoop(g) => {
+            LawKind::Paper => None,
+            LawKind::GapLoop(g) => {
                 g.validate()
                     .map_err(|e| crate::Error::invalid("gap_loop", e.to_string()))?;
                 Some(g)
@@ -262,7 +262,7 @@ pub fn fig1_with_mass(
     fig: &Fig1,
     mass: f64,
     inner: &Params,
-    law: &Law,
+    law: &LawKind,
     geometry: Geometry,
 ) -> crate::Result<VehiclePlant> {
     let fig = Fig1 {
@@ -287,7 +287,7 @@ pub const MASS_SEARCH_MAX: f64 = 10e3;
 pub fn critical_magnet_mass(
     fig: &Fig1,
     inner: &Params,
-    law: &Law,
+    law: &LawKind,
     geometry: Geometry,
 ) -> crate::Result<Option<f64>> {
     let unstable = |m: f64| -> crate::Result<bool> {

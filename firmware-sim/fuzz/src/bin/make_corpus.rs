@@ -5,7 +5,7 @@ use maglev_firmware_sim::heapless::Vec as HVec;
 use maglev_firmware_sim::protocol::*;
 use std::fs;
 
-fn config(scalar: ScalarKind, law: LawConfig) -> Config {
+fn config(scalar: ScalarKind, law: LawKind) -> Config {
     let mut channels = HVec::new();
     // One Fig. 1 wheel: levitation and the guidance pair.
     for gap in [0.01, 0.0101, 0.0099] {
@@ -56,12 +56,7 @@ fn prefixed(bodies: &[Vec<u8>]) -> Vec<u8> {
 }
 
 fn main() {
-    let gap_loop = LawConfig::GapLoop {
-        kp: 2.0,
-        kd: 0.02,
-        tf: 0.002,
-        x_ref_max: 0.5,
-    };
+    let gap_loop = LawKind::GapLoop(GapParams { kp: 2.0, kd: 0.02, tf: 0.002, x_ref_max: 0.5 });
     let codes = |c: u16| -> HVec<u16, MAX_SAMPLES> {
         let mut v = HVec::new();
         for k in 0..6 {
@@ -71,8 +66,8 @@ fn main() {
     };
     let mut seeds: Vec<(&str, Vec<Vec<u8>>)> = Vec::new();
     for (name, scalar, law) in [
-        ("paper-i4f28", ScalarKind::I4F28, LawConfig::Paper),
-        ("paper-f32", ScalarKind::F32, LawConfig::Paper),
+        ("paper-i4f28", ScalarKind::I4F28, LawKind::Paper),
+        ("paper-f32", ScalarKind::F32, LawKind::Paper),
         ("gaploop-i4f28", ScalarKind::I4F28, gap_loop),
     ] {
         seeds.push((

@@ -32,7 +32,7 @@ fn heave_is_the_quarter_car_in_both_geometries() {
     let p = paper_inner();
     for geo in [Geometry::Paper, Geometry::Ems] {
         for m in [0.0, 50.0] {
-            let all = fig1_with_mass(&fig, m, &p, &Law::Paper, geo)
+            let all = fig1_with_mass(&fig, m, &p, &LawKind::Paper, geo)
                 .unwrap()
                 .poles()
                 .unwrap();
@@ -45,7 +45,7 @@ fn heave_is_the_quarter_car_in_both_geometries() {
         }
     }
     // The issue-5 EMS quarter car: +3.99 and +7.68 ± 22.3j are the vehicle's heave poles.
-    let ems = fig1_with_mass(&fig, 0.0, &p, &Law::Paper, Geometry::Ems)
+    let ems = fig1_with_mass(&fig, 0.0, &p, &LawKind::Paper, Geometry::Ems)
         .unwrap()
         .verdict()
         .unwrap();
@@ -70,7 +70,7 @@ fn lateral_is_the_guidance_pair_quarter_car_without_body_height() {
     let p = paper_inner();
     let g = GapParams::designed();
     for geo in [Geometry::Paper, Geometry::Ems] {
-        let all = fig1_with_mass(&fig, 0.0, &p, &Law::GapLoop(g), geo)
+        let all = fig1_with_mass(&fig, 0.0, &p, &LawKind::GapLoop(g), geo)
             .unwrap()
             .poles()
             .unwrap();
@@ -85,9 +85,9 @@ fn zero_poles_are_the_rigid_body_modes_under_the_papers_law_only() {
     let p = paper_inner();
     for geo in [Geometry::Paper, Geometry::Ems] {
         for m in [0.0, 20.0] {
-            let v = fig1_with_mass(&fig, m, &p, &Law::Paper, geo).unwrap();
+            let v = fig1_with_mass(&fig, m, &p, &LawKind::Paper, geo).unwrap();
             assert_eq!(v.verdict().unwrap().zero_poles, 5, "{geo:?} {m}");
-            let v = fig1_with_mass(&fig, m, &p, &Law::GapLoop(GapParams::designed()), geo).unwrap();
+            let v = fig1_with_mass(&fig, m, &p, &LawKind::GapLoop(GapParams::designed()), geo).unwrap();
             assert_eq!(v.verdict().unwrap().zero_poles, 0, "{geo:?} {m}");
         }
     }
@@ -97,11 +97,11 @@ fn zero_poles_are_the_rigid_body_modes_under_the_papers_law_only() {
 fn critical_mass_brackets_the_verdict() {
     let fig = Fig1::default();
     let p = paper_inner();
-    let m = critical_magnet_mass(&fig, &p, &Law::Paper, Geometry::Paper)
+    let m = critical_magnet_mass(&fig, &p, &LawKind::Paper, Geometry::Paper)
         .unwrap()
         .unwrap();
     let at = |m: f64| {
-        fig1_with_mass(&fig, m, &p, &Law::Paper, Geometry::Paper)
+        fig1_with_mass(&fig, m, &p, &LawKind::Paper, Geometry::Paper)
             .unwrap()
             .verdict()
             .unwrap()
@@ -123,7 +123,7 @@ fn critical_mass_brackets_the_verdict() {
     assert!(m > 30.0 && m < 48.0, "{m}");
     // Under EMS the paper's law is unstable at the scenario's own (zero) mass.
     assert_eq!(
-        critical_magnet_mass(&fig, &p, &Law::Paper, Geometry::Ems).unwrap(),
+        critical_magnet_mass(&fig, &p, &LawKind::Paper, Geometry::Ems).unwrap(),
         Some(0.0)
     );
 }
