@@ -215,6 +215,14 @@ pub enum Geometry {
 }
 
 impl Geometry {
+    /// The name as scenarios write it (`paper`, `ems`).
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Geometry::Paper => "paper",
+            Geometry::Ems => "ems",
+        }
+    }
+
     /// Levitation gap (Eq. 2): `h = h0 ± (z_w − z_g) + r`, `+` for [`Geometry::Paper`],
     /// `−` for [`Geometry::Ems`]. `z_w`: the magnet node's displacement, `z_g`: the
     /// guideway's at the wheel (Eq. 16), `r`: the rail irregularity at the wheel (Eq. 3).

@@ -170,7 +170,10 @@ impl<S: Scalar> Law<S> {
     /// Equilibrium at gap `h` (m): the coil at the static load, every filter at rest there.
     pub fn equilibrium_state(&self, h: f64) -> LawState<S> {
         let inner = self.inner.equilibrium_state(h);
-        GapState { inner, q: inner.eta }
+        GapState {
+            inner,
+            q: inner.eta,
+        }
     }
 
     /// [`Law::equilibrium_state`], refusing a NaN, non-positive or unrepresentable gap by name

@@ -11,8 +11,8 @@ pub mod levitation;
 pub mod scalar;
 mod trig;
 
+pub use law::{Law, LawKind, LawName, LawParams, LawState, Measurement};
 pub use levitation::{
     Interpolation, Levitation, Output, ParamError, Params, Scheme, State, Status,
 };
-pub use law::{Law, LawKind, LawName, LawParams, LawState, Measurement};
 pub use scalar::Scalar;

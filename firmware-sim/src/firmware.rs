@@ -36,9 +36,7 @@
 
 use crate::adc::read_channel;
 use crate::hbridge::duty_for;
-use crate::protocol::{
-    ChannelOut, Config, ConfigFault, ConfigKey, Problem, MAX_CHANNELS,
-};
+use crate::protocol::{ChannelOut, Config, ConfigFault, ConfigKey, Problem, MAX_CHANNELS};
 use crate::supervision::{check, Event, Limits, Mode, SensorState};
 use crate::validate::{check_config, law_fault};
 use embedded_hal::pwm::SetDutyCycle;

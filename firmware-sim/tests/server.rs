@@ -404,8 +404,12 @@ fn every_config_value_is_validated_by_name() {
     assert_eq!(refusal(|c| c.alpha = 1.5), at(Alpha, OutOfRange));
     assert_eq!(refusal(|c| c.v_max = f64::NAN), at(VMax, NotFinite));
     assert_eq!(
-        refusal(|c| c.law = LawKind::GapLoop(GapParams { kp: f64::NAN, kd: 0.0, tf: 0.0, x_ref_max: 0.1
-         })),
+        refusal(|c| c.law = LawKind::GapLoop(GapParams {
+            kp: f64::NAN,
+            kd: 0.0,
+            tf: 0.0,
+            x_ref_max: 0.1
+        })),
         at(GapLoop, NotFinite)
     );
     // The message names the key and its limit.

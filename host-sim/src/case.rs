@@ -16,17 +16,14 @@ use crate::fe::soil::Soil;
 use crate::fe::viaduct::{BearingSpec, FoundationSpec, PierSpec, ViaductSpec};
 use crate::guideway::{BeamSection, Bridge};
 use crate::probes::{Extent, Probes};
-use crate::scenario::{
-    self, BridgeKind, BridgeSection, LawKey, Model, Scenario, SchemeKey, VehicleSection,
-};
+use crate::scenario::{self, BridgeKind, BridgeSection, Model, Scenario, VehicleSection};
 use crate::simulation::MovingLoad;
-use maglev_core::LawKind;
 use crate::vehicle::{Fig1, Train, VehicleModel};
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
 use maglev_core::levitation::GRAVITY;
-use maglev_core::Params;
+use maglev_core::{LawKind, LawName, Params, Scheme};
 
 /// The most time steps a case may take (t_end / dt): 10⁷ steps is hours of wall time for a
 /// vehicle passage; a larger count is a typo in dt or t_end far more often than intent.
@@ -125,8 +122,8 @@ pub struct Changes {
     pub dt: Option<f64>,
     pub t_end: Option<f64>,
     pub n_sub: Option<u32>,
-    pub scheme: Option<SchemeKey>,
-    pub law: Option<LawKey>,
+    pub scheme: Option<Scheme>,
+    pub law: Option<LawName>,
 }
 
 impl Case {
@@ -347,8 +344,8 @@ impl Case {
             json!({
                 "i0_A": p.i0, "h0_m": p.h0, "r0_ohm": p.r0,
                 "kp_V_m_per_A": p.kp, "ki_V_m_per_A_s": p.ki, "alpha": p.alpha,
-                "nsub": p.n_sub, "interp": format!("{:?}", p.interpolation).to_lowercase(),
-                "vmax_V": p.v_max, "scheme": format!("{:?}", p.scheme).to_lowercase(),
+                "nsub": p.n_sub, "interp": p.interpolation.as_str(),
+                "vmax_V": p.v_max, "scheme": p.scheme.as_str(),
             })
         });
         let law = match self.law {
@@ -410,7 +407,7 @@ impl Case {
             "train": train,
             "controller": controller,
             "law": law,
-            "geometry": format!("{:?}", self.geometry).to_lowercase(),
+            "geometry": self.geometry.as_str(),
             "irregularity_seed": self.irregularity_seed,
             "probes": self.probes.names,
         })
@@ -721,7 +718,7 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
                     cars: *repeat,
                     car_length,
                 },
-                (*geometry).into(),
+                *geometry,
             ))
         }
         VehicleSection::Maglev { cars, geometry } => {
@@ -733,7 +730,7 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
                     nodes,
                     length,
                 },
-                (*geometry).into(),
+                *geometry,
             ))
         }
         VehicleSection::WheelRail { cars } => {
@@ -887,9 +884,9 @@ fn controller(sc: &Scenario, dt: f64) -> Result<Params> {
         alpha: c.alpha,
         dt,
         n_sub: c.nsub,
-        interpolation: c.interp.into(),
+        interpolation: c.interp,
         v_max: c.vmax_V,
-        scheme: c.scheme.into(),
+        scheme: c.scheme,
     };
     p.validate()
         .map_err(|e| Error::invalid("controller", e.to_string()))?;
@@ -909,8 +906,8 @@ fn law(
         _ => return Ok(LawKind::Paper),
     };
     match key {
-        LawKey::Paper => Ok(LawKind::Paper),
-        LawKey::GapLoop => Ok(LawKind::GapLoop(match train {
+        LawName::Paper => Ok(LawKind::Paper),
+        LawName::GapLoop => Ok(LawKind::GapLoop(match train {
             // Gains designed for this case's car, inner law and geometry (docs/gap-loop.md);
             // a train of forces has no magnets to run them.
             TrainCase::Fig1 { car, .. } => {

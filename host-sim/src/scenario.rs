@@ -4,7 +4,7 @@
 
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
-use maglev_core::{Interpolation, Scheme};
+use maglev_core::{Interpolation, LawName, Scheme};
 use serde::{Deserialize, Serialize};
 
 /// Bundled scenarios: (name, TOML text).
@@ -181,7 +181,7 @@ pub enum VehicleSection {
         wheel_mass_kg: f64,
         /// How the magnets face their rails (docs/model.md §2); default `paper`.
         #[serde(default)]
-        geometry: GeometryKey,
+        geometry: Geometry,
         /// Identical cars, one behind the other (default 1).
         #[serde(default = "one")]
         repeat: usize,
@@ -201,7 +201,7 @@ pub enum VehicleSection {
         cars: usize,
         /// How the magnets face their rails (docs/model.md §2); default `paper`.
         #[serde(default)]
-        geometry: GeometryKey,
+        geometry: Geometry,
     },
     /// The paper's §5 wheel/rail train: `cars` cars of 25 m on Hertz contacts (docs/cars.md).
     WheelRail {
@@ -235,24 +235,6 @@ fn twelve() -> usize {
     12
 }
 
-/// `vehicle.geometry`: `paper` (Eq. 2 read literally, the default) or `ems`.
-#[derive(Deserialize, Serialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
-#[serde(rename_all = "kebab-case")]
-pub enum GeometryKey {
-    #[default]
-    Paper,
-    Ems,
-}
-
-impl From<GeometryKey> for Geometry {
-    fn from(g: GeometryKey) -> Self {
-        match g {
-            GeometryKey::Paper => Geometry::Paper,
-            GeometryKey::Ems => Geometry::Ems,
-        }
-    }
-}
-
 #[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
@@ -264,73 +246,15 @@ pub struct ControllerSection {
     pub ki_V_m_per_A_s: f64,
     pub alpha: f64,
     pub nsub: u32,
-    pub interp: InterpKey,
+    pub interp: Interpolation,
     pub vmax_V: f64,
     /// `paper` (Eq. 8–14 alone, the default) or `gap-loop` (the outer gap loop of
     /// `maglev_core::gap_control` at its designed gains around the paper's law).
     #[serde(default)]
-    pub law: LawKey,
+    pub law: LawName,
     /// `paper` (Eq. 14 with `nsub` sub-steps, the default) or `accurate` (Gauss–Legendre).
     #[serde(default)]
-    pub scheme: SchemeKey,
-}
-
-/// `controller.law`: which levitation law each magnet runs.
-#[derive(Deserialize, Serialize, Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum LawKey {
-    /// The paper's PI law on `g = i/h` alone (Eq. 8–14).
-    #[default]
-    Paper,
-    /// The outer gap loop of `maglev_core::gap_control` around the paper's law.
-    GapLoop,
-}
-
-/// `controller.interp`: the gap interpolation inside the outer step.
-#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum InterpKey {
-    Linear,
-    Parabolic,
-}
-
-impl From<InterpKey> for Interpolation {
-    fn from(k: InterpKey) -> Self {
-        match k {
-            InterpKey::Linear => Interpolation::Linear,
-            InterpKey::Parabolic => Interpolation::Parabolic,
-        }
-    }
-}
-
-/// `controller.scheme`: the integrator of the coil + PI equations (`maglev_core::Scheme`).
-#[derive(Deserialize, Serialize, Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum SchemeKey {
-    /// The paper's Eq. 14, `nsub` times per step (first order).
-    #[default]
-    Paper,
-    /// Gauss–Legendre on the limit system (order 4); ignores `nsub` and `alpha`.
-    Accurate,
-}
-
-impl From<SchemeKey> for Scheme {
-    fn from(k: SchemeKey) -> Self {
-        match k {
-            SchemeKey::Paper => Scheme::Paper,
-            SchemeKey::Accurate => Scheme::Accurate,
-        }
-    }
-}
-
-impl SchemeKey {
-    /// The name as written in a scenario.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            SchemeKey::Paper => "paper",
-            SchemeKey::Accurate => "accurate",
-        }
-    }
+    pub scheme: Scheme,
 }
 
 #[derive(Deserialize, Serialize, Debug, Clone)]

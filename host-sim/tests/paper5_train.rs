@@ -34,7 +34,13 @@ impl Recorder for Collect {
     }
 }
 
-fn settings(speed: f64, t_end: f64, law: LawKind, geometry: Geometry, midspans: Vec<f64>) -> Settings {
+fn settings(
+    speed: f64,
+    t_end: f64,
+    law: LawKind,
+    geometry: Geometry,
+    midspans: Vec<f64>,
+) -> Settings {
     Settings {
         speed,
         dt: DT,

@@ -87,6 +87,26 @@ pub enum Scheme {
     Accurate,
 }
 
+impl Interpolation {
+    /// The name as scenarios write it (`linear`, `parabolic`).
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Interpolation::Linear => "linear",
+            Interpolation::Parabolic => "parabolic",
+        }
+    }
+}
+
+impl Scheme {
+    /// The name as scenarios write it (`paper`, `accurate`).
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Scheme::Paper => "paper",
+            Scheme::Accurate => "accurate",
+        }
+    }
+}
+
 /// Controller parameters in SI units, designed in `f64` (paper §4.2 values from [`Params::paper`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

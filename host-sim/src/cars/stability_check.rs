@@ -3,17 +3,22 @@
 //! train's runs rely on.
 
 use super::fig6::Fig6;
-use maglev_core::LawKind;
 use crate::stability::vehicle::VehiclePlant;
 use maglev_core::gap::Geometry;
+use maglev_core::LawKind;
 use maglev_core::Params;
 
 fn verdict(p: &Fig6) -> crate::stability::vehicle::Verdict {
     let v = p.build(9.81).unwrap();
-    VehiclePlant::new(&v, &Params::paper_wheel(1e-3), &LawKind::Paper, Geometry::Paper)
-        .unwrap()
-        .verdict()
-        .unwrap()
+    VehiclePlant::new(
+        &v,
+        &Params::paper_wheel(1e-3),
+        &LawKind::Paper,
+        Geometry::Paper,
+    )
+    .unwrap()
+    .verdict()
+    .unwrap()
 }
 
 #[test]

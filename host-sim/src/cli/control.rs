@@ -3,10 +3,9 @@
 //! failure never leaves half a CSV on stdout.
 
 use crate::control::{parse_trace, run_trace_as, to_csv, Row, ScalarKind};
-use crate::scenario::{InterpKey, SchemeKey};
 use crate::{Error, Result};
 use anyhow::Context as _;
-use maglev_core::{Params, Status};
+use maglev_core::{Interpolation, Params, Scheme, Status};
 use std::io::Write as _;
 use std::path::PathBuf;
 
@@ -14,8 +13,8 @@ use std::path::PathBuf;
 #[derive(clap::Args, Debug, Clone)]
 pub struct ControllerArgs {
     /// Integrator: the paper's Eq. 14 with sub-steps, or the accurate Gauss–Legendre scheme.
-    #[arg(long, value_enum, default_value_t = SchemeKey::Paper)]
-    pub scheme: SchemeKey,
+    #[arg(long, value_parser = super::core_word::<Scheme>, default_value = "paper")]
+    pub scheme: Scheme,
     /// α of the α-method, in [0, 1].
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.5)]
     pub alpha: f64,
@@ -23,8 +22,8 @@ pub struct ControllerArgs {
     #[arg(long = "nsub", allow_negative_numbers = true, default_value_t = 1)]
     pub n_sub: u32,
     /// Gap interpolation inside the outer step.
-    #[arg(long = "interp", value_enum, default_value_t = InterpKey::Linear)]
-    pub interp: InterpKey,
+    #[arg(long = "interp", value_parser = super::core_word::<Interpolation>, default_value = "linear")]
+    pub interp: Interpolation,
     /// Nominal current i0 (A).
     #[arg(long, allow_negative_numbers = true, default_value_t = 43.0)]
     pub i0: f64,
@@ -61,9 +60,9 @@ impl ControllerArgs {
             alpha: self.alpha,
             dt,
             n_sub: self.n_sub,
-            interpolation: self.interp.into(),
+            interpolation: self.interp,
             v_max: self.vmax,
-            scheme: self.scheme.into(),
+            scheme: self.scheme,
         };
         p.validate()
             .map_err(|e| Error::invalid("controller", e.to_string()))?;

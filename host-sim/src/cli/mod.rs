@@ -12,3 +12,10 @@ pub mod run;
 pub mod stability;
 pub mod sweep;
 pub mod validate;
+
+/// A core type from the word a scenario writes for it (`paper`, `accurate`, `gap-loop`, …), by
+/// the type's own serde names: the command line and the scenario accept the same words.
+pub fn core_word<T: serde::de::DeserializeOwned>(word: &str) -> Result<T, String> {
+    use serde::de::IntoDeserializer;
+    T::deserialize(word.into_deserializer()).map_err(|e: serde::de::value::Error| e.to_string())
+}

@@ -4,7 +4,6 @@
 
 use crate::cli::progress::Progress;
 use crate::output::write_atomic;
-use crate::scenario::SchemeKey;
 use crate::validation::{validate, RUNS};
 use crate::Error;
 use std::path::PathBuf;
@@ -21,8 +20,8 @@ pub struct Args {
     #[arg(long, default_value = "validation")]
     pub out: PathBuf,
     /// Controller scheme of every run, FE and modal reference alike (`controller.scheme`).
-    #[arg(long, value_enum, default_value_t = SchemeKey::Paper)]
-    pub scheme: SchemeKey,
+    #[arg(long, value_parser = super::core_word::<maglev_core::Scheme>, default_value = "paper")]
+    pub scheme: maglev_core::Scheme,
     /// Override a scenario value in every case, FE and modal reference alike (as `maglev run
     /// --set`; repeatable). The keys that define the cases (speed, model, elements, dt, nsub)
     /// are refused.

@@ -17,9 +17,7 @@ use crate::vehicle::Train;
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::Status;
-use maglev_firmware_sim::protocol::{
-    ChannelInit, Config, Nack, Reply, Request, Response,
-};
+use maglev_firmware_sim::protocol::{ChannelInit, Config, Nack, Reply, Request, Response};
 use maglev_firmware_sim::supervision::Event;
 
 /// A logged firmware event.

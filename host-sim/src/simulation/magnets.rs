@@ -73,10 +73,8 @@ impl CoreMagnets {
                 law,
             });
         }
-        let mags: Vec<Levitation<f64>> = ctl
-            .iter()
-            .flat_map(|c| [*c.law.levitation(); 3])
-            .collect();
+        let mags: Vec<Levitation<f64>> =
+            ctl.iter().flat_map(|c| [*c.law.levitation(); 3]).collect();
         let n = mags.len();
         let mut m = CoreMagnets {
             mags,

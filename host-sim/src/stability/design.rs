@@ -32,11 +32,11 @@
 use super::gap_loop::GapLoopPlant;
 use super::plant::Suspension;
 use super::vehicle::VehiclePlant;
-use maglev_core::LawKind;
 use crate::vehicle::VehicleModel;
 use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
 use maglev_core::levitation::GRAVITY;
+use maglev_core::LawKind;
 use maglev_core::Params;
 
 /// The designed gains and the full vehicle's spectral abscissa with them (1/s).

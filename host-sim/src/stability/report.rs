@@ -43,9 +43,9 @@ pub struct ScenarioReport {
 
 /// Computes the scenario report (no printing).
 pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioReport> {
-    use maglev_core::LawKind;
     use crate::stability::gap_loop::GapLoopPlant;
     use crate::stability::vehicle::{critical_magnet_mass, VehiclePlant, ZERO_POLE};
+    use maglev_core::LawKind;
     let case = Case::load(name, sets)?;
     let TrainCase::Fig1 { car: fig, .. } = &case.train else {
         return Err(crate::Error::invalid(

@@ -38,10 +38,10 @@
 use super::gloop::Loop;
 use super::magnet::{self, Slots};
 use super::Complex;
-use maglev_core::LawKind;
 use crate::vehicle::{Fig1, VehicleModel};
 use maglev_core::gap::{self, Geometry};
 use maglev_core::levitation::GRAVITY;
+use maglev_core::LawKind;
 use maglev_core::Params;
 use nalgebra::DMatrix;
 

@@ -87,7 +87,8 @@ fn zero_poles_are_the_rigid_body_modes_under_the_papers_law_only() {
         for m in [0.0, 20.0] {
             let v = fig1_with_mass(&fig, m, &p, &LawKind::Paper, geo).unwrap();
             assert_eq!(v.verdict().unwrap().zero_poles, 5, "{geo:?} {m}");
-            let v = fig1_with_mass(&fig, m, &p, &LawKind::GapLoop(GapParams::designed()), geo).unwrap();
+            let v =
+                fig1_with_mass(&fig, m, &p, &LawKind::GapLoop(GapParams::designed()), geo).unwrap();
             assert_eq!(v.verdict().unwrap().zero_poles, 0, "{geo:?} {m}");
         }
     }
