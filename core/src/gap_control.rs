@@ -63,8 +63,10 @@ pub struct GapParams {
     /// under "paper".
     pub kp: f64,
     /// Derivative gain `kd` (s), the sign of `kp`.
+    #[cfg_attr(feature = "serde", serde(rename = "kd_s"))]
     pub kd: f64,
     /// Derivative filter time constant `tf` (s), ≥ 0 (0: plain backward difference).
+    #[cfg_attr(feature = "serde", serde(rename = "tf_s"))]
     pub tf: f64,
     /// Bound on `|x_ref| = |g_ref/g0 − 1|`, > 0.
     pub x_ref_max: f64,

@@ -194,6 +194,8 @@ pub enum ConfigKey {
     StuckTicks,
     RampTicks,
     WatchdogTicks,
+    /// The state law's gains and timing (`LawKind::State`).
+    StateLaw,
 }
 
 /// What is wrong with a [`Config`] value.
@@ -223,6 +225,7 @@ impl ConfigKey {
             Alpha => "alpha",
             VMax => "v_max",
             GapLoop => "gap_loop",
+            StateLaw => "state_law",
             P0 => "p0",
             Gap => "gap",
             AdcBits => "adc_bits",
@@ -249,6 +252,7 @@ impl ConfigKey {
             Alpha => "0..=1",
             VMax => "a number > 0 (inf for none)",
             GapLoop => "finite gains ≥ 0, x_ref_max > 0",
+            StateLaw => "finite gains ≥ 0, v_max > R0·i0, rate ≥ 2π·observer bandwidth",
             Gap => {
                 "finite, inside the sensor's range (adc_offset, adc_offset + 2^adc_bits·adc_lsb)"
             }

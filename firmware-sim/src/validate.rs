@@ -114,6 +114,7 @@ pub fn law_fault(e: ParamError, channel: Option<u8>) -> ConfigFault {
         "p0" => P0,
         "h" => Gap,
         n if n.starts_with("gap ") => GapLoop,
+        n if n.starts_with("state ") => StateLaw,
         // The sub-step coefficients (`c`, `kih`, …) and `dt` depend on the rate.
         _ => Rate,
     };

@@ -348,13 +348,7 @@ impl Case {
                 "vmax_V": p.v_max, "scheme": p.scheme.as_str(),
             })
         });
-        let law = match self.law {
-            LawKind::Paper => json!({ "kind": "paper" }),
-            LawKind::GapLoop(g) => json!({
-                "kind": "gap-loop", "kp": g.kp, "kd_s": g.kd, "tf_s": g.tf,
-                "x_ref_max": g.x_ref_max,
-            }),
-        };
+        let law = law_record(&self.law);
         json!({
             "model": format!("{:?}", self.model).to_lowercase(),
             "speed_m_per_s": self.speed,
@@ -412,6 +406,22 @@ impl Case {
             "probes": self.probes.names,
         })
     }
+}
+
+/// The law as summary.json records it: `kind` (its name) and the law's own parameters under
+/// their serde names (`maglev_core::law`), whichever law it is.
+fn law_record(law: &LawKind) -> serde_json::Value {
+    let mut record = serde_json::Map::new();
+    record.insert("kind".into(), law.name().as_str().into());
+    // Externally tagged: a unit variant is its name, a variant with parameters `{name: {…}}`.
+    if let Ok(serde_json::Value::Object(tagged)) = serde_json::to_value(law) {
+        for (_, params) in tagged {
+            if let serde_json::Value::Object(p) = params {
+                record.extend(p);
+            }
+        }
+    }
+    serde_json::Value::Object(record)
 }
 
 fn positive(key: &str, v: f64) -> Result<f64> {
@@ -907,6 +917,11 @@ fn law(
     };
     match key {
         LawName::Paper => Ok(LawKind::Paper),
+        LawName::State => Err(Error::invalid(
+            "controller.law",
+            "`state` runs from the core's API (maglev_core::law::state); scenarios cannot \
+             give its gains yet",
+        )),
         LawName::GapLoop => Ok(LawKind::GapLoop(match train {
             // Gains designed for this case's car, inner law and geometry (docs/gap-loop.md);
             // a train of forces has no magnets to run them.

@@ -4,7 +4,6 @@
 
 use crate::case::{Case, TrainCase};
 use crate::stability::Complex;
-use maglev_core::gap::Geometry;
 use serde::Serialize;
 
 /// The gap loop's gains as reported (per unit; SI seconds).
@@ -78,7 +77,7 @@ pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioRep
         "no zero pole: the gap loop restores every gap to h0".to_string()
     };
     let gap_loop = match law {
-        LawKind::Paper => None,
+        LawKind::Paper | LawKind::State(_) => None,
         LawKind::GapLoop(g) => {
             let loops = crate::stability::design::per_magnet_loops(&v, &inner);
             let (p, s, body) = loops
@@ -105,14 +104,8 @@ pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioRep
     };
     Ok(ScenarioReport {
         scenario: name.to_string(),
-        geometry: match geometry {
-            Geometry::Paper => "paper",
-            Geometry::Ems => "ems",
-        },
-        law: match law {
-            LawKind::Paper => "paper",
-            LawKind::GapLoop(_) => "gap-loop",
-        },
+        geometry: geometry.as_str(),
+        law: law.name().as_str(),
         magnet_mass_kg: fig.wheel_mass,
         states: plant.a.nrows(),
         vehicle_poles: vd.poles,

@@ -169,6 +169,12 @@ impl VehiclePlant {
                     .map_err(|e| crate::Error::invalid("gap_loop", e.to_string()))?;
                 Some(g)
             }
+            LawKind::State(_) => {
+                return Err(crate::Error::invalid(
+                    "controller.law",
+                    "the linear vehicle model has no arm for the state law yet",
+                ))
+            }
         };
         let delay = delay.filter(|_| gains.is_some());
         let per = 2 + usize::from(gains.is_some()) + usize::from(delay.is_some());

@@ -15,21 +15,28 @@
 //!   (Eq. 8–14, [`crate::levitation`]).
 //! * [`LawKind::GapLoop`]: an outer gap loop setting the paper's law's reference
 //!   ([`crate::gap_control`]).
+//! * [`LawKind::State`]: state feedback on gap, gap rate, acceleration, its integral and the
+//!   current, driving the coil's voltage ([`state`]): the law that holds an EMS magnet's gap.
 //!
 //! # Measurement
 //! Every law reads the gap at the end of the step; a [`Measurement`] may also carry the magnet's
-//! absolute vertical acceleration and the coil current, for laws that feed them back. The laws
-//! here use the gap alone (their coil current is their own state).
+//! absolute vertical acceleration and the coil current, for laws that feed them back. The
+//! paper's law and the gap loop read the gap alone; the state law reads the acceleration too.
+//! Every law here integrates its coil (Eq. 9) itself, so the current it feeds back is its own
+//! state; `current` is for a law whose coil is outside the core (none yet).
 //!
 //! # Guidance pairs
 //! A guidance pair ([`crate::guidance`]) is two magnets under the same law on the gaps
 //! `h0 ± d`: [`Law::update_pair`].
+
+pub mod state;
 
 use crate::gap::Geometry;
 use crate::gap_control::{GapLoop, GapParams, GapState};
 use crate::guidance::{self, PairOutput};
 use crate::levitation::{Levitation, Output, ParamError, Params, State, Status};
 use crate::scalar::Scalar;
+use state::{StateLaw, StateLawState, StateParams};
 
 /// Which law a magnet runs, with the law's own gains (the magnet and the paper's inner gains are
 /// in [`LawParams::magnet`]).
@@ -42,6 +49,8 @@ pub enum LawKind {
     Paper,
     /// The outer gap loop around the paper's law ([`crate::gap_control`]).
     GapLoop(GapParams),
+    /// State feedback driving the coil voltage ([`state`]).
+    State(StateParams),
 }
 
 /// A law's name, as scenarios and command lines write it (`paper`, `gap-loop`).
@@ -54,6 +63,8 @@ pub enum LawName {
     Paper,
     /// [`LawKind::GapLoop`].
     GapLoop,
+    /// [`LawKind::State`].
+    State,
 }
 
 impl LawName {
@@ -62,6 +73,7 @@ impl LawName {
         match self {
             LawName::Paper => "paper",
             LawName::GapLoop => "gap-loop",
+            LawName::State => "state",
         }
     }
 }
@@ -72,6 +84,7 @@ impl LawKind {
         match self {
             LawKind::Paper => LawName::Paper,
             LawKind::GapLoop(_) => LawName::GapLoop,
+            LawKind::State(_) => LawName::State,
         }
     }
 }
@@ -95,6 +108,7 @@ impl LawParams {
         let kind = match self.kind {
             LawKind::Paper => Compiled::Paper,
             LawKind::GapLoop(g) => Compiled::GapLoop(g.compile::<S>(self.magnet.dt)?),
+            LawKind::State(p) => Compiled::State(p.compile::<S>(&self.magnet)?),
         };
         Ok(Law { inner, kind })
     }
@@ -129,6 +143,7 @@ impl<S> Measurement<S> {
 enum Compiled<S> {
     Paper,
     GapLoop(GapLoop<S>),
+    State(StateLaw<S>),
 }
 
 /// A compiled controller of one magnet: any law, one type.
@@ -140,9 +155,18 @@ pub struct Law<S> {
     kind: Compiled<S>,
 }
 
-/// State of one magnet under a [`Law`]: the coil and inner loop ([`State`]) and the law's own
-/// filter. Under the paper's law the filter is unused.
-pub type LawState<S> = GapState<S>;
+/// State of one magnet under a [`Law`]: the coil and inner loop ([`State`]) and each law's own
+/// states (a law leaves the others' at rest).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LawState<S> {
+    /// The coil and the paper's inner loop; its `eta` is the last measured gap.
+    pub inner: State<S>,
+    /// The gap loop's derivative filter.
+    pub q: S,
+    /// The state law's integral and observer.
+    pub state: StateLawState<S>,
+}
 
 impl<S: Scalar> Law<S> {
     /// The paper's inner law (coil, flux loop, per-unit conversions, [`Levitation::to_si`]).
@@ -157,6 +181,7 @@ impl<S: Scalar> Law<S> {
             kind: match &self.kind {
                 Compiled::Paper => LawKind::Paper,
                 Compiled::GapLoop(g) => LawKind::GapLoop(*g.params()),
+                Compiled::State(l) => LawKind::State(*l.params()),
             },
         }
     }
@@ -170,9 +195,14 @@ impl<S: Scalar> Law<S> {
     /// Equilibrium at gap `h` (m): the coil at the static load, every filter at rest there.
     pub fn equilibrium_state(&self, h: f64) -> LawState<S> {
         let inner = self.inner.equilibrium_state(h);
-        GapState {
+        let state = match &self.kind {
+            Compiled::State(l) => l.equilibrium(&inner),
+            _ => StateLawState::default(),
+        };
+        LawState {
             inner,
             q: inner.eta,
+            state,
         }
     }
 
@@ -199,13 +229,19 @@ impl<S: Scalar> Law<S> {
         match &self.kind {
             Compiled::Paper => self.inner.update(&mut st.inner, m.gap),
             Compiled::GapLoop(g) => {
-                let o = g.update(&self.inner, st, m.gap);
+                let mut gs = GapState {
+                    inner: st.inner,
+                    q: st.q,
+                };
+                let o = g.update(&self.inner, &mut gs, m.gap);
+                (st.inner, st.q) = (gs.inner, gs.q);
                 let mut out = o.inner;
                 if o.reference_limited {
                     out.status = out.status.union(Status::REFERENCE_LIMITED);
                 }
                 out
             }
+            Compiled::State(l) => l.update(&mut st.inner, &mut st.state, m.gap, m.accel),
         }
     }
 
@@ -244,7 +280,10 @@ mod tests {
             let law = LawParams { magnet, kind }.compile::<f64>().unwrap();
             assert_eq!(law.params().kind, kind);
             let mut st = law.equilibrium_state(0.0101);
-            let mut reference = st;
+            let mut reference = GapState {
+                inner: st.inner,
+                q: st.q,
+            };
             let mut pair = law.pair_equilibrium_state(2e-4);
             let mut pair_ref = pair;
             for k in 0..200 {
@@ -252,7 +291,7 @@ mod tests {
                 let out = law.update(&mut st, Measurement::gap(h));
                 let want = match kind {
                     LawKind::Paper => lev.update(&mut reference.inner, h),
-                    LawKind::GapLoop(_) => {
+                    _ => {
                         let o = gl.update(&lev, &mut reference, h);
                         let mut out = o.inner;
                         if o.reference_limited {
@@ -262,7 +301,7 @@ mod tests {
                     }
                 };
                 assert_eq!(out, want, "step {k}");
-                assert_eq!(st, reference);
+                assert_eq!((st.inner, st.q), (reference.inner, reference.q));
                 let d = 0.03 * libm::cos(k as f64 * 0.07);
                 let po = law.update_pair(Geometry::Ems, &mut pair, d);
                 let [l, r] = &mut pair_ref;
