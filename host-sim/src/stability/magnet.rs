@@ -17,6 +17,8 @@
 
 use super::gloop::Loop;
 use maglev_core::gap_control::GapParams;
+use maglev_core::law::state::StateParams;
+use maglev_core::Params;
 use nalgebra::DMatrix;
 
 /// Where one magnet's states sit in the closed-loop state vector.
@@ -106,4 +108,58 @@ pub fn write_rows(
     a[(at.x, at.y)] += 1.0 / lp.tau;
     a[(at.y, at.x)] -= lp.ki;
     Ok(())
+}
+
+/// What one magnet under the state law reads, as rows over the closed-loop state: the gap
+/// `η`, its rate `η̇` (exact: the ideal sensor of the analysis), and the magnet's absolute
+/// acceleration in m/s² where it is measured (the levitation magnets; `None` for guidance).
+pub struct StateSensors<'a> {
+    pub eta: &'a [f64],
+    pub eta_rate: &'a [f64],
+    pub accel: Option<&'a [f64]>,
+}
+
+/// Writes the rows of `x` and of the integral `u` (in `at.y`) of one magnet under the state
+/// law (`maglev_core::law::state`), continuous time, ideal sensors, linearised about the
+/// magnet's equilibrium at h0 (`x = 0`, `i = i0`):
+///
+/// ```text
+/// τ·ẋ = Δv − η − x,     Δv = Kp·η + Kd·η̇ − (ka/V_b)·a + u − Kc·(x + η),     u̇ = Ki·η
+/// Kp = kp·h0/V_b,  Kd = kd·h0/V_b,  Ki = ki·h0/V_b,  Kc = kc·i0/V_b
+/// ```
+/// (`Δi/i0 = x + η`, the coil's current `g·h` linearised; τ the coil's time constant.) The
+/// voltage bound is not active in a linear model.
+pub fn write_state_rows(
+    a: &mut DMatrix<f64>,
+    at: Slots,
+    sensors: &StateSensors,
+    lp: &Loop,
+    law: &StateParams,
+    magnet: &Params,
+) {
+    let vb = magnet.v_base();
+    let (h0, i0) = (magnet.h0, magnet.i0);
+    let (kp, kd, ki, kc) = (
+        law.kp * h0 / vb,
+        law.kd * h0 / vb,
+        law.ki * h0 / vb,
+        law.kc * i0 / vb,
+    );
+    let mut x_row: Vec<f64> = sensors
+        .eta
+        .iter()
+        .zip(sensors.eta_rate)
+        .map(|(e, r)| (kp - kc - 1.0) * e + kd * r)
+        .collect();
+    if let Some(acc) = sensors.accel {
+        for (xj, aj) in x_row.iter_mut().zip(acc) {
+            *xj -= law.ka / vb * aj;
+        }
+    }
+    x_row[at.x] -= 1.0 + kc;
+    x_row[at.y] += 1.0;
+    for (j, v) in x_row.into_iter().enumerate() {
+        a[(at.x, j)] = v / lp.tau;
+        a[(at.y, j)] = ki * sensors.eta[j];
+    }
 }

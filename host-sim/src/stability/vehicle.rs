@@ -162,18 +162,17 @@ impl VehiclePlant {
         };
 
         // State layout: q (n), v_a (na), then per wheel: lev, guide L, guide R magnets.
-        let gains = match law {
-            LawKind::Paper => None,
+        let (gains, state_law) = match law {
+            LawKind::Paper => (None, None),
             LawKind::GapLoop(g) => {
                 g.validate()
                     .map_err(|e| crate::Error::invalid("gap_loop", e.to_string()))?;
-                Some(g)
+                (Some(g), None)
             }
-            LawKind::State(_) => {
-                return Err(crate::Error::invalid(
-                    "controller.law",
-                    "the linear vehicle model has no arm for the state law yet",
-                ))
+            LawKind::State(sp) => {
+                sp.validate()
+                    .map_err(|e| crate::Error::invalid("controller.law", e.to_string()))?;
+                (None, Some(sp))
             }
         };
         let delay = delay.filter(|_| gains.is_some());
@@ -203,6 +202,9 @@ impl VehiclePlant {
         // Force map f = F·s and the magnets' rows.
         let mut f = DMatrix::zeros(n, ns);
         let mut a = DMatrix::zeros(ns, ns);
+        // State-law magnets read the gap's rate and the magnet's acceleration, which the
+        // mechanical rows give: their rows are written after those.
+        let mut state_magnets = Vec::new();
         for (w, (wh, &p0)) in v.wheels.iter().zip(&v.p0).enumerate() {
             let mut p = *inner;
             p.p0 = p0;
@@ -217,7 +219,10 @@ impl VehiclePlant {
             ];
             for (k, (name, gap_dof, dh, df, force_dof)) in magnets.into_iter().enumerate() {
                 let at = slot(w, k);
-                magnet::write_rows(&mut a, at, &[(gap_dof, dh / h0)], &lp, gains)?;
+                match state_law {
+                    None => magnet::write_rows(&mut a, at, &[(gap_dof, dh / h0)], &lp, gains)?,
+                    Some(_) => state_magnets.push((at, gap_dof, dh / h0, k == 0, p, lp)),
+                }
                 f[(force_dof, at.x)] += df * 2.0 * p0;
                 states.push(format!("{name}{}.x", w + 1));
                 states.push(format!("{name}{}.y", w + 1));
@@ -248,6 +253,31 @@ impl VehiclePlant {
         }
         for (iz, &i) in massless.iter().enumerate() {
             a.row_mut(i).copy_from(&qz_dot.row(iz));
+        }
+        if let Some(law) = state_law {
+            for (at, dof, deta, levitation, p, lp) in state_magnets {
+                let mut eta = vec![0.0; ns];
+                eta[dof] = deta;
+                let eta_rate: Vec<f64> = a.row(dof).iter().map(|v| deta * v).collect();
+                // The levitation magnet's accelerometer: the DOF's velocity row derivative.
+                let accel: Option<Vec<f64>> = match massive.iter().position(|&i| i == dof) {
+                    Some(ia) if levitation => Some(a.row(n + ia).iter().copied().collect()),
+                    _ if levitation && law.ka != 0.0 => {
+                        return Err(crate::Error::invalid(
+                            "vehicle.wheel_mass_kg",
+                            "the state law's acceleration feedback (ka > 0) needs a magnet \
+                             with mass",
+                        ))
+                    }
+                    _ => None,
+                };
+                let sensors = magnet::StateSensors {
+                    eta: &eta,
+                    eta_rate: &eta_rate,
+                    accel: accel.as_deref(),
+                };
+                magnet::write_state_rows(&mut a, at, &sensors, &lp, law, &p);
+            }
         }
         Ok(VehiclePlant { a, states })
     }

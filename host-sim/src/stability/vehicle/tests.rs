@@ -270,3 +270,109 @@ fn ems_gap_loop_passage_with_500_kg_magnets_keeps_every_gap() {
         }
     }
 }
+
+/// A levitation unit without a body: one magnet of mass `m` (vertical and lateral DOFs, no
+/// springs) carrying its own weight.
+fn bare_magnet(m: f64) -> VehicleModel {
+    let w = m * GRAVITY;
+    VehicleModel {
+        m: DMatrix::from_diagonal_element(2, 2, m),
+        c: DMatrix::zeros(2, 2),
+        k: DMatrix::zeros(2, 2),
+        wheels: vec![crate::vehicle::Wheel {
+            x0: 0.0,
+            ey: 0.0,
+            ez: 0.0,
+            dof_y: 0,
+            dof_z: 1,
+        }],
+        p0: vec![w],
+        contacts: vec![],
+        body_z: 1,
+        body_pitch: 1,
+        length: 1.0,
+        weight: w,
+    }
+}
+
+/// The state law with kp and kd alone on a bare magnet under EMS: its levitation poles are the
+/// roots of the cubic derived by hand (maglev_core::law::state tests' doc),
+/// `m·τ·s³ + m·s² + (2·p0·kd/V_b)·s + 2·p0·(kp/V_b − 1/h0)`, and they cross into the right
+/// half-plane exactly at Routh's boundary `kd = τ·(kp − V_b/h0)` (1e-6 relative).
+#[test]
+fn state_law_routh_boundary_of_a_bare_magnet() {
+    use maglev_core::law::state::StateParams;
+    let m = 800.0;
+    let v = bare_magnet(m);
+    let inner = paper_inner();
+    let (p0, h0, vb) = (m * GRAVITY, inner.h0, inner.v_base());
+    let tau = 2.0 * p0 * h0 / (inner.r0 * inner.i0 * inner.i0);
+    let kp = 2.5 * vb / h0;
+    let kd_c = tau * (kp - vb / h0);
+    let lev_poles = |kd: f64| -> Vec<Complex> {
+        let law = LawKind::State(StateParams {
+            kp,
+            kd,
+            ka: 0.0,
+            ki: 0.0,
+            kc: 0.0,
+            v_max: 1e6,
+            rate_hz: 1e4,
+            observer_hz: 300.0,
+            geometry: Geometry::Ems,
+        });
+        let poles = VehiclePlant::new(&v, &inner, &law, Geometry::Ems)
+            .unwrap()
+            .poles()
+            .unwrap();
+        let c = [
+            m * tau,
+            m,
+            2.0 * p0 * kd / vb,
+            2.0 * p0 * (kp / vb - 1.0 / h0),
+        ];
+        let roots: Vec<Complex> = poles
+            .into_iter()
+            .filter(|s| {
+                let (mut re, mut im, mut scale) = (0.0, 0.0, 0.0);
+                let (mut pr, mut pi) = (1.0, 0.0); // s^k
+                for (k, ck) in c.iter().rev().enumerate() {
+                    if k > 0 {
+                        (pr, pi) = (pr * s.re - pi * s.im, pr * s.im + pi * s.re);
+                    }
+                    re += ck * pr;
+                    im += ck * pi;
+                    scale += (ck * (pr * pr + pi * pi).sqrt()).abs();
+                }
+                (re * re + im * im).sqrt() <= 1e-9 * scale
+            })
+            .collect();
+        assert_eq!(roots.len(), 3, "kd = {kd}: {roots:?}");
+        roots
+    };
+    let max_re = |r: &[Complex]| r.iter().map(|s| s.re).fold(f64::NEG_INFINITY, f64::max);
+    assert!(max_re(&lev_poles(kd_c * (1.0 + 1e-6))) < 0.0);
+    assert!(max_re(&lev_poles(kd_c * (1.0 - 1e-6))) > 0.0);
+    // Below kp = V_b/h0 a real root sits in the right half-plane whatever kd.
+    let kp_weak = 0.99 * vb / h0;
+    let weak = VehiclePlant::new(
+        &v,
+        &inner,
+        &LawKind::State(StateParams {
+            kp: kp_weak,
+            kd: 100.0 * kd_c,
+            ka: 0.0,
+            ki: 0.0,
+            kc: 0.0,
+            v_max: 1e6,
+            rate_hz: 1e4,
+            observer_hz: 300.0,
+            geometry: Geometry::Ems,
+        }),
+        Geometry::Ems,
+    )
+    .unwrap()
+    .verdict()
+    .unwrap();
+    assert!(!weak.stable);
+}
