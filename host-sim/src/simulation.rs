@@ -9,6 +9,11 @@
 //! gives. The magnets restart from their committed state at every iteration and commit only on
 //! convergence. The iteration count of each step is recorded (Fig. 5).
 //!
+//! The loop itself, one for every train kind (moving forces included), is
+//! `time_loop`'s: kinematics at t, the coupled iteration, the step's
+//! bookkeeping. What a run keeps of every step goes through one [`Recorder`]; the
+//! [`Outcome`] holds only the run's counters and ranges.
+//!
 //! Wheel–rail contacts (Hertz springs, docs/cars.md "Wheel–rail contact") ride in the same
 //! loop: their springs are implicit in the cars, the rail's motion is their forcing, and the
 //! iteration runs until that motion agrees too.
@@ -94,7 +99,8 @@ pub struct Settings {
     /// Convergence tolerance on the gaps between two iterations (m).
     pub tolerance: f64,
     pub max_iterations: u32,
-    /// X of the section reported as "midspan".
+    /// X of the first span's middle. Read by nothing since the per-step records went (the
+    /// probes read `midspans`); it goes when the tests that set it do.
     pub midspan_x: f64,
     /// X of the middle of every span (the `span{K}.midspan` probes).
     pub midspans: Vec<f64>,

@@ -350,7 +350,7 @@ pub fn validate(
             ("wheel 1 Z", "wheel1_z", "wheel1_z (mm)"),
         ]
         .iter()
-        .map(|(what, get, ylabel)| plot_of(what, reference, &runs, *get, ylabel))
+        .map(|(what, column, ylabel)| plot_of(what, reference, &runs, column, ylabel))
         .collect();
         let title = format!("§4.3 (Fig. 2) at {speed} m/s{}", overrides(sets));
         let fig = panels(&title, &cells)?;

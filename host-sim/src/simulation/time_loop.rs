@@ -83,7 +83,7 @@ struct Kinematics {
 }
 
 /// The coupled iteration's state within a step.
-struct Iterate {
+struct IterationState {
     /// Per magnet wheel: the committed gaps (t − Δt), those the last forces were computed
     /// from, and the current iterate (t).
     gaps_prev: Vec<WheelGaps>,
@@ -145,7 +145,7 @@ struct TimeLoop<'a, G, M: ?Sized> {
     h0: f64,
     veh: TrainState,
     at: Kinematics,
-    it: Iterate,
+    it: IterationState,
     dofs: ProbeDofs,
     tally: Tally,
 }
@@ -195,7 +195,7 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
         };
         Ok(TimeLoop {
             at: Kinematics::at_rest(v, riders.forces, profiles, steps),
-            it: Iterate::at_rest(v, riders.forces, gaps_prev),
+            it: IterationState::at_rest(v, riders.forces, gaps_prev),
             guideway,
             magnets,
             train: v,
@@ -399,8 +399,8 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
         self.record(t, it.iterations, collision, rec)
     }
 
-    /// Hands the committed state at `t` to the recorder: the train's view, or the moving
-    /// forces' for a train without cars.
+    /// Hands the committed state at `t` to the recorder: the train's view, or, for a train
+    /// with no guideway node (no magnet, no contact), the moving forces' view.
     fn record(
         &self,
         t: f64,
@@ -483,7 +483,7 @@ impl Kinematics {
     }
 }
 
-impl Iterate {
+impl IterationState {
     /// The buffers at t = 0: the magnets at `gaps_prev` with their static forces, every
     /// contact at its static load, each moving force's load at its start.
     fn at_rest(v: &Train, forces: &[MovingLoad], gaps_prev: Vec<WheelGaps>) -> Self {
@@ -496,7 +496,7 @@ impl Iterate {
             fy: 0.0,
             fz: -f.force,
         }));
-        Iterate {
+        IterationState {
             gaps_used: vec![(0.0, 0.0); nw],
             current: vec![(0.0, 0.0); nw],
             gaps_prev,
