@@ -22,7 +22,7 @@ fn paper5(c: &mut Criterion) {
             b.iter(|| {
                 pool.install(|| {
                     let run = simulate(&case, Controllers::Core, &mut NoRecorder, |_| {}).unwrap();
-                    black_box(run.outcome.records.len())
+                    black_box(run.outcome.steps)
                 })
             })
         });

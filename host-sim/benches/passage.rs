@@ -23,8 +23,7 @@ fn run(mut p: Passage) -> usize {
         |_| {},
     )
     .unwrap()
-    .records
-    .len()
+    .steps
 }
 
 /// The §4.2 passage (0.5 s simulated).

@@ -83,14 +83,12 @@ impl Summary {
         wall: f64,
         columns: &Columns,
     ) -> Self {
-        let records = &outcome.records;
-        let steps = records.len().saturating_sub(1);
-        let simulated = records.last().map_or(0.0, |r| r.t);
-        let iters: Vec<u32> = records.iter().skip(1).map(|r| r.iterations).collect();
-        let mean = if iters.is_empty() {
+        let (steps, simulated) = (outcome.steps, outcome.simulated_seconds);
+        // The sum of the counts is exact in f64, as was the sum of each step's count.
+        let mean = if steps == 0 {
             0.0
         } else {
-            iters.iter().map(|&i| i as f64).sum::<f64>() / iters.len() as f64
+            outcome.total_iterations as f64 / steps as f64
         };
         let peaks = columns
             .histories()
@@ -110,7 +108,7 @@ impl Summary {
             },
             steps,
             mean_iterations: mean,
-            max_iterations: iters.iter().copied().max().unwrap_or(0),
+            max_iterations: outcome.max_iterations,
             unconverged_steps: outcome.unconverged_steps,
             collision_steps: outcome.collision_steps,
             contact_loss_steps: outcome.contact_loss_steps,

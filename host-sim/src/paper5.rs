@@ -69,7 +69,7 @@ pub fn run_train(train: &str, sets: &[String], progress: impl FnMut(f64)) -> Res
         dt: case.dt,
         carriage: column(CARRIAGE)?,
         pier: column(PIER)?,
-        steps: run.outcome.records.len().saturating_sub(1),
+        steps: run.outcome.steps,
         collision_steps: run.outcome.collision_steps,
         contact_loss_steps: run.outcome.contact_loss_steps,
         unconverged_steps: run.outcome.unconverged_steps,

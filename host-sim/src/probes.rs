@@ -229,6 +229,18 @@ impl Probes {
         Ok(Probes { names, probes })
     }
 
+    /// The [`DEFAULT`] columns, which every case has (span 1 and wheel 1 always exist; a
+    /// forces train's gap is not applicable), without a case to check them against.
+    pub fn default_columns() -> Self {
+        let any = Extent {
+            spans: 1,
+            wheels: 1,
+            cars: 0,
+            magnets: false,
+        };
+        Probes::new(None, &any).expect("the default columns parse against any case")
+    }
+
     /// Checks the probes that only the guideway can answer (`pier{K}`) against it: one
     /// line naming the probe and the limit.
     pub fn check_guideway(&self, g: &dyn Guideway) -> Result<()> {
@@ -369,10 +381,13 @@ pub trait Recorder {
     fn record(&mut self, step: &StepView) -> Result<()>;
 }
 
-/// Keeps every step's probe values in memory, one row per committed step (tests, studies
-/// that post-process a few columns).
+/// Keeps every step's time, iteration count and probe values in memory, one row per committed
+/// step (tests, studies that post-process a few columns, `hil --compare`).
 pub struct Rows {
     pub probes: Probes,
+    /// Each recorded step's time (s) and iterations (0 at t = 0).
+    pub t: Vec<f64>,
+    pub iterations: Vec<u32>,
     pub rows: Vec<Vec<f64>>,
 }
 
@@ -380,6 +395,8 @@ impl Rows {
     pub fn new(probes: Probes) -> Self {
         Rows {
             probes,
+            t: Vec::new(),
+            iterations: Vec::new(),
             rows: Vec::new(),
         }
     }
@@ -394,12 +411,24 @@ impl Rows {
 impl Recorder for Rows {
     fn record(&mut self, step: &StepView) -> Result<()> {
         let row = self.probes.probes.iter().map(|p| step.value(p)).collect();
+        self.t.push(step.t);
+        self.iterations.push(step.iterations);
         self.rows.push(row);
         Ok(())
     }
 }
 
-/// Records nothing (runs whose callers keep only the in-memory records).
+/// Hands every step to two recorders in turn (a run's response.csv and an in-memory copy).
+pub struct Tee<'a>(pub &'a mut dyn Recorder, pub &'a mut dyn Recorder);
+
+impl Recorder for Tee<'_> {
+    fn record(&mut self, step: &StepView) -> Result<()> {
+        self.0.record(step)?;
+        self.1.record(step)
+    }
+}
+
+/// Records nothing (runs whose callers keep only the outcome's counters and ranges).
 pub struct NoRecorder;
 
 impl Recorder for NoRecorder {

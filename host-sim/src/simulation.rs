@@ -9,6 +9,11 @@
 //! gives. The magnets restart from their committed state at every iteration and commit only on
 //! convergence. The iteration count of each step is recorded (Fig. 5).
 //!
+//! The loop itself, one for every train kind (moving forces included), is
+//! `time_loop`'s: kinematics at t, the coupled iteration, the step's
+//! bookkeeping. What a run keeps of every step goes through one [`Recorder`]; the
+//! [`Outcome`] holds only the run's counters and ranges.
+//!
 //! Wheel–rail contacts (Hertz springs, docs/cars.md "Wheel–rail contact") ride in the same
 //! loop: their springs are implicit in the cars, the rail's motion is their forcing, and the
 //! iteration runs until that motion agrees too.
@@ -19,21 +24,22 @@
 //! two runs differ only in the controller, which is what `maglev hil --compare` measures.
 
 pub mod magnets;
+mod time_loop;
 pub mod train;
 
-use crate::guideway::{Guideway, PointLoad, SectionMotion};
-use crate::probes::{Recorder, StepView, Wheels};
-use crate::vehicle::{Node, Train};
+use crate::guideway::Guideway;
+use crate::probes::Recorder;
+use crate::vehicle::Train;
 use crate::{Error, Result};
 use maglev_core::gap::{self, Geometry};
 use maglev_core::{LawKind, Params, Status};
-use train::TrainState;
+use time_loop::Riders;
 
 /// What runs over the guideway.
 pub enum Load {
     /// Constant vertical forces moving with the run's speed (a `forces` train, or the single
-    /// moving force of the verification case); no controller, no irregularity. Record
-    /// "wheel 1" is the first load.
+    /// moving force of the verification case); no controller, no irregularity. They run
+    /// through the same loop as a train, as a train with no cars whose loads are constant.
     Forces(Vec<MovingLoad>),
     /// A train (one car or more): one levitation magnet and one guidance pair per maglev
     /// wheel, one Hertz spring per wheel–rail contact.
@@ -82,26 +88,11 @@ pub struct Settings {
     /// Convergence tolerance on the gaps between two iterations (m).
     pub tolerance: f64,
     pub max_iterations: u32,
-    /// X of the section reported as "midspan".
+    /// X of the first span's middle. Read by nothing since the per-step records went (the
+    /// probes read `midspans`); it goes when the tests that set it do.
     pub midspan_x: f64,
     /// X of the middle of every span (the `span{K}.midspan` probes).
     pub midspans: Vec<f64>,
-}
-
-/// One recorded step (SI; displacements positive along the axes).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Record {
-    pub t: f64,
-    pub midspan: SectionMotion,
-    pub wheel1_y: f64,
-    pub wheel1_z: f64,
-    /// NaN for a moving force (no gap).
-    pub wheel1_gap_z: f64,
-    pub wheel1_force_z: f64,
-    pub iterations: u32,
-    pub status: Status,
-    /// Some magnet's gap was at or below zero at the end of the step (a collision).
-    pub collision: bool,
 }
 
 /// The range `(min, max)` (m) of each magnet's gap over a run, per wheel: levitation,
@@ -110,11 +101,19 @@ pub type GapRanges = Vec<[(f64, f64); 3]>;
 
 /// Result of a run.
 pub struct Outcome {
-    pub records: Vec<Record>,
+    /// Steps run (t = 0 is not a step).
+    pub steps: usize,
+    /// The last step's time (s).
+    pub simulated_seconds: f64,
+    /// Iterations summed over every step, and the most any step took.
+    pub total_iterations: u64,
+    pub max_iterations: u32,
     /// Steps whose iterations hit `max_iterations` without converging.
     pub unconverged_steps: usize,
     /// Steps in which some magnet's gap was at or below zero.
     pub collision_steps: usize,
+    /// The end time (s) of the first such step.
+    pub first_collision_t: Option<f64>,
     /// Each magnet's gap range over the run (empty for a moving force).
     pub gap_ranges: GapRanges,
     /// Steps in which some wheel–rail contact lifted off (its force clamped at zero).
@@ -168,95 +167,36 @@ pub fn initial_gaps(v: &Train, profiles: &Profiles, h0: f64) -> Vec<WheelGaps> {
         .collect()
 }
 
-/// Runs from t = 0 to `t_end`. `progress` is called with the fraction done now and then.
+/// Runs from t = 0 to `t_end` with the core's controllers on a train's magnets (a train of
+/// moving forces has none). `progress` is called with the fraction done now and then.
 pub fn simulate<G: Guideway>(
     guideway: &mut G,
     load: &Load,
     profiles: &Profiles,
     s: &Settings,
     rec: &mut dyn Recorder,
-    mut progress: impl FnMut(f64),
+    progress: impl FnMut(f64),
 ) -> Result<Outcome> {
-    let dt = s.dt;
-    if (guideway.time_step() - dt).abs() > 1e-15 * dt {
-        return Err(Error::numerical(
-            "internal: guideway step differs from the run's step",
-        ));
-    }
     match load {
         Load::Forces(forces) => {
-            let steps = (s.t_end / dt).round() as usize;
-            let first = forces
-                .first()
-                .ok_or_else(|| Error::invalid("train.loads_kN", "needs at least one load"))?;
-            let mut records = written(steps + 1, Record::default());
-            records.clear();
-            records.push(Record {
-                midspan: guideway.section_at(s.midspan_x),
-                wheel1_gap_z: f64::NAN,
-                ..Record::default()
-            });
-            let mut loads: Vec<PointLoad> = forces
-                .iter()
-                .map(|f| PointLoad {
-                    x: f.x0,
-                    ey: f.ey,
-                    ez: f.ez,
-                    fy: 0.0,
-                    fz: -f.force,
-                })
-                .collect();
-            let magnitudes: Vec<f64> = forces.iter().map(|f| f.force).collect();
-            let mut points: Vec<(f64, f64, f64)> =
-                loads.iter().map(|l| (l.x, l.ey, l.ez)).collect();
-            let mut record = |t: f64, g: &G, points: &[(f64, f64, f64)], iterations| {
-                rec.record(&StepView {
-                    t,
-                    guideway: g,
-                    midspans: &s.midspans,
-                    wheels: Wheels::Forces {
-                        points,
-                        forces: &magnitudes,
-                    },
-                    iterations,
-                    collision: false,
-                })
-            };
-            record(0.0, guideway, &points, 0)?;
-            for n in 1..=steps {
-                let t = n as f64 * dt;
-                for ((l, f), p) in loads.iter_mut().zip(forces).zip(points.iter_mut()) {
-                    l.x = f.x0 + s.speed * t;
-                    p.0 = l.x;
-                }
-                guideway.solve_step(&loads);
-                guideway.commit();
-                record(t, guideway, &points, 1)?;
-                let m = guideway.motion_at(loads[0].x, first.ey, first.ez);
-                records.push(Record {
-                    t,
-                    midspan: guideway.section_at(s.midspan_x),
-                    wheel1_y: m.y,
-                    wheel1_z: m.z,
-                    wheel1_gap_z: f64::NAN,
-                    wheel1_force_z: first.force,
-                    iterations: 1,
-                    status: Status::default(),
-                    collision: false,
-                });
-                if n % 1000 == 0 {
-                    progress(n as f64 / steps as f64);
-                }
+            if forces.is_empty() {
+                return Err(Error::invalid("train.loads_kN", "needs at least one load"));
             }
-            Ok(Outcome {
-                records,
-                unconverged_steps: 0,
-                collision_steps: 0,
-                gap_ranges: Vec::new(),
-                contact_loss_steps: 0,
-                contact_ranges: Vec::new(),
-                profile: Vec::new(),
-            })
+            // A train with no cars: no magnets, no contacts, only the moving forces.
+            let train = Train {
+                cars: Vec::new(),
+                wheels: Vec::new(),
+                p0: Vec::new(),
+                contacts: Vec::new(),
+                nodes: Vec::new(),
+                parallel: false,
+            };
+            let mut magnets = magnets::CoreMagnets::new(&train, &[], s)?;
+            let riders = Riders {
+                train: &train,
+                forces,
+            };
+            time_loop::run(guideway, riders, profiles, s, &mut magnets, rec, progress)
         }
         Load::Vehicle(v) => {
             let gaps0 = initial_gaps(v, profiles, s.controller.h0);
@@ -278,284 +218,19 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     s: &Settings,
     magnets: &mut M,
     rec: &mut dyn Recorder,
-    mut progress: impl FnMut(f64),
+    progress: impl FnMut(f64),
 ) -> Result<Outcome> {
-    let dt = s.dt;
-    if (guideway.time_step() - dt).abs() > 1e-15 * dt {
-        return Err(Error::numerical(
-            "internal: guideway step differs from the run's step",
-        ));
-    }
     if v.nodes.is_empty() {
         return Err(Error::invalid(
             "train",
             "has no magnet and no wheel to meet the guideway",
         ));
     }
-    let h0 = s.controller.h0;
-    let steps = (s.t_end / dt).round() as usize;
-    let nw = v.wheels.len();
-    let nc = v.contacts.len();
-    let mut gaps_prev = initial_gaps(v, profiles, h0);
-    let mut ranges: GapRanges = gaps_prev
-        .iter()
-        .map(|&g| magnet_gaps(g, h0).map(|h| (h, h)))
-        .collect();
-    let mut contact_ranges: Vec<(f64, f64)> = v.contacts.iter().map(|c| (c.p0, c.p0)).collect();
-    let mut collision_steps = 0;
-    let mut contact_loss_steps = 0;
-    // The irregularity under every wheel and contact, one ascending run per point (rows at
-    // equal x are equal, so the order of the runs does not show after the sort).
-    let run = steps + 1;
-    let mut profile: Vec<[f64; 3]> = written(run * (nw + nc), [0.0; 3]);
-    let x0s = v
-        .wheels
-        .iter()
-        .map(|w| w.x0)
-        .chain(v.contacts.iter().map(|c| c.x0));
-    for (k, x0) in x0s.enumerate() {
-        profile[k * run] = [x0, (profiles.y)(x0), (profiles.z)(x0)];
-    }
-    let mut veh = TrainState::new(v, dt)?;
-    // Train-wide DOF indices for the probes (cars concatenated in order).
-    let dofs: Vec<(usize, usize)> = v
-        .wheels
-        .iter()
-        .map(|w| (veh.global(w.car, w.dof_y), veh.global(w.car, w.dof_z)))
-        .collect();
-    let contact_dofs: Vec<usize> = v
-        .contacts
-        .iter()
-        .map(|c| veh.global(c.car, c.dof_z))
-        .collect();
-    let body_z: Vec<usize> = (0..v.cars.len())
-        .map(|c| veh.global(c, v.cars[c].body_z))
-        .collect();
-    // The static forces at t = 0; every iteration overwrites them.
-    let mut forces: Vec<(f64, f64)> = v.p0.iter().map(|&p0| (p0, 0.0)).collect();
-    let mut contact_p: Vec<f64> = v.contacts.iter().map(|c| c.p0).collect();
-    let first =
-        |forces: &[(f64, f64)], contact_p: &[f64], gaps: &[WheelGaps], veh: &TrainState| match v
-            .nodes[0]
-        {
-            Node::Magnet(i) => {
-                let w = &v.wheels[i];
-                (
-                    veh.u(w.car, w.dof_y),
-                    veh.u(w.car, w.dof_z),
-                    gaps[i].0,
-                    forces[i].0,
-                )
-            }
-            Node::Contact(i) => {
-                let c = &v.contacts[i];
-                (f64::NAN, veh.u(c.car, c.dof_z), f64::NAN, contact_p[i])
-            }
-        };
-    let mut records = written(steps + 1, Record::default());
-    records.clear();
-    {
-        let (_, _, gap_z, force_z) = first(&forces, &contact_p, &gaps_prev, &veh);
-        records.push(Record {
-            midspan: guideway.section_at(s.midspan_x),
-            wheel1_gap_z: gap_z,
-            wheel1_force_z: force_z,
-            ..Record::default()
-        });
-    }
-    let mut unconverged = 0;
-    rec.record(&StepView {
-        t: 0.0,
-        guideway: &*guideway,
-        midspans: &s.midspans,
-        wheels: Wheels::Vehicle {
-            u: veh.u_all(),
-            a: veh.a_all(),
-            dofs: &dofs,
-            gaps: &gaps_prev,
-            forces: &forces,
-            h0,
-            body_z: &body_z,
-            nodes: &v.nodes,
-            contact_dofs: &contact_dofs,
-            contact_forces: &contact_p,
-        },
-        iterations: 0,
-        collision: false,
-    })?;
-    let mut f = vec![(0.0, 0.0); nw];
-    let mut loads = vec![PointLoad::default(); nw + nc];
-    let mut gaps_used = vec![(0.0, 0.0); nw];
-    let mut current = vec![(0.0, 0.0); nw];
-    let (mut xs, mut ry, mut rz) = (vec![0.0; nw], vec![0.0; nw], vec![0.0; nw]);
-    // Contacts: position, irregularity, the rail's motion under them (current iterate and the
-    // one the car was solved with), the car-side forcing and the loss-of-contact correction.
-    let (mut cx, mut crz) = (vec![0.0; nc], vec![0.0; nc]);
-    let (mut zg, mut zg_used) = (vec![0.0; nc], vec![0.0; nc]);
-    let (mut fc, mut lift, mut lift_used) = (vec![0.0; nc], vec![0.0; nc], vec![0.0; nc]);
-    for n in 1..=steps {
-        let t = n as f64 * dt;
-        let step = n as u32;
-        for (i, w) in v.wheels.iter().enumerate() {
-            xs[i] = w.x0 + s.speed * t;
-            rz[i] = (profiles.z)(xs[i]);
-            ry[i] = (profiles.y)(xs[i]);
-            profile[i * run + n] = [xs[i], ry[i], rz[i]];
-        }
-        for (j, c) in v.contacts.iter().enumerate() {
-            cx[j] = c.x0 + s.speed * t;
-            crz[j] = (profiles.z)(cx[j]);
-            profile[(nw + j) * run + n] = [cx[j], (profiles.y)(cx[j]), crz[j]];
-        }
-        // Gaps at t from a displacement estimate (the committed state on the first pass).
-        let gaps = |trial: bool, veh: &TrainState, gw: &G, out: &mut [WheelGaps]| {
-            for (i, w) in v.wheels.iter().enumerate() {
-                let m = gw.motion_at(xs[i], w.ey, w.ez);
-                let (uy, uz) = if trial {
-                    (veh.u1(w.car, w.dof_y), veh.u1(w.car, w.dof_z))
-                } else {
-                    (veh.u(w.car, w.dof_y), veh.u(w.car, w.dof_z))
-                };
-                out[i] = (
-                    s.geometry.levitation_gap(h0, uz, m.z, rz[i]),
-                    gap::lateral_offset(uy, m.y, ry[i]),
-                );
-            }
-        };
-        let rail = |gw: &G, out: &mut [f64]| {
-            for (j, c) in v.contacts.iter().enumerate() {
-                out[j] = gw.motion_at(cx[j], c.ey, c.ez).z;
-            }
-        };
-        gaps(false, &veh, guideway, &mut current);
-        rail(guideway, &mut zg);
-        lift.fill(0.0);
-        let mut iterations = 0;
-        let mut lost;
-        loop {
-            iterations += 1;
-            magnets.forces(step, t, &gaps_prev, &current, &mut forces)?;
-            for (i, w) in v.wheels.iter().enumerate() {
-                let (gz, gy) = forces[i];
-                f[i] = (gz - v.p0[i], gy);
-                loads[i] = PointLoad {
-                    x: xs[i],
-                    ey: w.ey,
-                    ez: w.ez,
-                    fy: -gy,
-                    fz: -gz,
-                };
-            }
-            // The car sees the rail's motion of this iterate (and the lift-off correction of
-            // the last one); its contact forces follow from its solution.
-            for (j, c) in v.contacts.iter().enumerate() {
-                fc[j] = c.k * (zg[j] - crz[j]) + lift[j];
-            }
-            veh.solve(v, &f, &fc);
-            zg_used.copy_from_slice(&zg);
-            lift_used.copy_from_slice(&lift);
-            lost = false;
-            for (j, c) in v.contacts.iter().enumerate() {
-                let p = contact_force(c.p0, c.k, veh.u1(c.car, c.dof_z), zg[j], crz[j]);
-                lift[j] = (-p).max(0.0);
-                lost |= p < 0.0;
-                contact_p[j] = p.max(0.0);
-                loads[nw + j] = PointLoad {
-                    x: cx[j],
-                    ey: c.ey,
-                    ez: c.ez,
-                    fy: 0.0,
-                    fz: -contact_p[j],
-                };
-            }
-            guideway.solve_step(&loads);
-            gaps_used.copy_from_slice(&current);
-            gaps(true, &veh, guideway, &mut current);
-            rail(guideway, &mut zg);
-            let change = current
-                .iter()
-                .zip(&gaps_used)
-                .map(|(a, b)| (a.0 - b.0).abs().max((a.1 - b.1).abs()))
-                .fold(0.0, f64::max);
-            let change_c = (0..nc)
-                .map(|j| {
-                    let k_h = v.contacts[j].k;
-                    (zg[j] - zg_used[j])
-                        .abs()
-                        .max((lift[j] - lift_used[j]).abs() / k_h)
-                })
-                .fold(0.0, f64::max);
-            if change.max(change_c) <= s.tolerance {
-                break;
-            }
-            if iterations >= s.max_iterations {
-                unconverged += 1;
-                break;
-            }
-        }
-        magnets.commit(step, t)?;
-        guideway.commit();
-        veh.commit();
-        gaps_prev.copy_from_slice(&gaps_used);
-        let mut collision = false;
-        for (r, &g) in ranges.iter_mut().zip(&gaps_used) {
-            for (r, h) in r.iter_mut().zip(magnet_gaps(g, h0)) {
-                *r = (r.0.min(h), r.1.max(h));
-                collision |= h <= 0.0;
-            }
-        }
-        for (r, &p) in contact_ranges.iter_mut().zip(&contact_p) {
-            *r = (r.0.min(p), r.1.max(p));
-        }
-        collision_steps += usize::from(collision);
-        contact_loss_steps += usize::from(lost);
-        rec.record(&StepView {
-            t,
-            guideway: &*guideway,
-            midspans: &s.midspans,
-            wheels: Wheels::Vehicle {
-                u: veh.u_all(),
-                a: veh.a_all(),
-                dofs: &dofs,
-                gaps: &gaps_used,
-                forces: &forces,
-                h0,
-                body_z: &body_z,
-                nodes: &v.nodes,
-                contact_dofs: &contact_dofs,
-                contact_forces: &contact_p,
-            },
-            iterations,
-            collision,
-        })?;
-        let (wheel1_y, wheel1_z, wheel1_gap_z, wheel1_force_z) =
-            first(&forces, &contact_p, &gaps_used, &veh);
-        records.push(Record {
-            t,
-            midspan: guideway.section_at(s.midspan_x),
-            wheel1_y,
-            wheel1_z,
-            wheel1_gap_z,
-            wheel1_force_z,
-            iterations,
-            status: magnets.status(),
-            collision,
-        });
-        if n % 200 == 0 {
-            progress(n as f64 / steps as f64);
-        }
-    }
-    profile.sort_by(|a, b| a[0].total_cmp(&b[0]));
-    profile.dedup_by(|a, b| a[0] == b[0]);
-    Ok(Outcome {
-        records,
-        unconverged_steps: unconverged,
-        collision_steps,
-        gap_ranges: ranges,
-        contact_loss_steps,
-        contact_ranges,
-        profile,
-    })
+    let riders = Riders {
+        train: v,
+        forces: &[],
+    };
+    time_loop::run(guideway, riders, profiles, s, magnets, rec, progress)
 }
 
 /// `n` copies of `value` in memory already written, so that the time loop, which fills it,

@@ -9,10 +9,9 @@
 use crate::case::{Case, Changes};
 use crate::output::{gap_ranges, GapRange};
 use crate::plot::{self, overrides, Plot, Series};
-use crate::probes::NoRecorder;
+use crate::probes::{Probes, Rows};
 use crate::scenario::Model;
 use crate::setup::{simulate, Controllers};
-use crate::simulation::Record;
 use crate::{Error, Result};
 use maglev_core::Scheme;
 use serde::Serialize;
@@ -64,7 +63,11 @@ pub struct Comparison {
 
 /// One run's histories.
 pub struct Run {
-    records: Vec<Record>,
+    /// Its histories: the default columns (midspan and wheel 1), one row per step.
+    rows: Rows,
+    /// Mean and largest Newton–Raphson iterations per step.
+    mean_iterations: f64,
+    max_iterations: u32,
     /// Every magnet's gap range.
     gaps: Vec<GapRange>,
     collision_steps: usize,
@@ -73,7 +76,8 @@ pub struct Run {
 
 fn run(base: &Case, changes: Changes) -> Result<Run> {
     let case = base.with(&changes)?;
-    let r = simulate(&case, Controllers::Core, &mut NoRecorder, |_| {})?;
+    let mut rows = Rows::new(Probes::default_columns());
+    let r = simulate(&case, Controllers::Core, &mut rows, |_| {})?;
     let (o, wall) = (r.outcome, r.wall);
     if o.unconverged_steps > 0 {
         return Err(Error::numerical(format!(
@@ -84,7 +88,9 @@ fn run(base: &Case, changes: Changes) -> Result<Run> {
     Ok(Run {
         gaps: gap_ranges(&o.gap_ranges),
         collision_steps: o.collision_steps,
-        records: o.records,
+        rows,
+        mean_iterations: o.total_iterations as f64 / o.steps as f64,
+        max_iterations: o.max_iterations,
         wall,
     })
 }
@@ -127,35 +133,35 @@ fn modal(base: &Case, speed: f64) -> Result<Run> {
     )
 }
 
-/// Reference value at time t by linear interpolation in the (finer) reference history.
-fn at(reference: &[Record], t: f64, get: fn(&Record) -> f64) -> f64 {
-    let dt = reference[1].t - reference[0].t;
-    let i = ((t / dt).floor() as usize).min(reference.len() - 2);
-    let u = (t - reference[i].t) / dt;
-    get(&reference[i]) * (1.0 - u) + get(&reference[i + 1]) * u
+/// The history of default column `name` of run `r`.
+fn history(r: &Run, name: &str) -> Vec<f64> {
+    r.rows
+        .column(name)
+        .expect("a validation run records the default columns")
 }
 
-/// Largest difference over the whole history relative to the reference's peak.
-fn max_rel_diff(run: &[Record], reference: &[Record], get: fn(&Record) -> f64) -> (f64, f64) {
-    let peak = reference.iter().map(|r| get(r).abs()).fold(0.0, f64::max);
+/// Reference value at time t by linear interpolation in the (finer) reference history
+/// `(t_ref, y_ref)`.
+fn at(t_ref: &[f64], y_ref: &[f64], t: f64) -> f64 {
+    let dt = t_ref[1] - t_ref[0];
+    let i = ((t / dt).floor() as usize).min(t_ref.len() - 2);
+    let u = (t - t_ref[i]) / dt;
+    y_ref[i] * (1.0 - u) + y_ref[i + 1] * u
+}
+
+/// Peak of the reference's history `name` and the largest difference of the run's over the
+/// whole history relative to it.
+fn max_rel_diff(run: &Run, reference: &Run, name: &str) -> (f64, f64) {
+    let (y, y_ref) = (history(run, name), history(reference, name));
+    let peak = y_ref.iter().map(|v| v.abs()).fold(0.0, f64::max);
     let d = run
+        .rows
+        .t
         .iter()
-        .map(|r| (get(r) - at(reference, r.t, get)).abs())
+        .zip(&y)
+        .map(|(&t, v)| (v - at(&reference.rows.t, &y_ref, t)).abs())
         .fold(0.0, f64::max);
     (peak, d / peak)
-}
-
-fn midspan_z(r: &Record) -> f64 {
-    r.midspan.z
-}
-fn wheel1_z(r: &Record) -> f64 {
-    r.wheel1_z
-}
-fn midspan_y(r: &Record) -> f64 {
-    r.midspan.y
-}
-fn wheel1_y(r: &Record) -> f64 {
-    r.wheel1_y
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -171,13 +177,11 @@ fn compare(
 ) -> Result<(Comparison, Run)> {
     let h0 = base.h0();
     let (r, nsub) = fe(base, speed, elements, dt)?;
-    let (mp, md) = max_rel_diff(&r.records, &reference.records, midspan_z);
-    let (wp, wd) = max_rel_diff(&r.records, &reference.records, wheel1_z);
-    let its: Vec<u32> = r.records.iter().skip(1).map(|x| x.iterations).collect();
-    let finite = r
-        .records
+    let (mp, md) = max_rel_diff(&r, reference, "midspan_z");
+    let (wp, wd) = max_rel_diff(&r, reference, "wheel1_z");
+    let finite = ["midspan_z", "wheel1_z"]
         .iter()
-        .all(|x| x.midspan.z.is_finite() && x.wheel1_z.is_finite());
+        .all(|&name| history(&r, name).iter().all(|v| v.is_finite()));
     let worst = worst_gap(r.gaps.iter().chain(&reference.gaps), h0)
         .ok_or_else(|| Error::numerical("internal: a vehicle run without magnets"))?;
     let within = r.collision_steps == 0
@@ -213,8 +217,8 @@ fn compare(
             midspan_z_max_diff_rel: md,
             wheel1_z_peak_m: wp,
             wheel1_z_max_diff_rel: wd,
-            mean_iterations: its.iter().map(|&i| i as f64).sum::<f64>() / its.len() as f64,
-            max_iterations: its.iter().copied().max().unwrap_or(0),
+            mean_iterations: r.mean_iterations,
+            max_iterations: r.max_iterations,
             collision_steps: r.collision_steps,
             reference_collision_steps: reference.collision_steps,
             wheel1_gap_min_m: w1.min_m,
@@ -247,16 +251,16 @@ pub struct Outcome {
     pub report: String,
 }
 
-/// A displacement history `get` (m) of the FE `runs` against the modal `reference`, in mm.
+/// A displacement history `name` (m) of the FE `runs` against the modal `reference`, in mm.
 fn plot_of(
     title: &str,
     reference: &Run,
     runs: &[(String, &Run)],
-    get: fn(&Record) -> f64,
+    name: &str,
     ylabel: &str,
 ) -> Plot {
-    let t = |r: &Run| r.records.iter().map(|x| x.t).collect();
-    let mm = |r: &Run| r.records.iter().map(|x| get(x) * 1e3).collect();
+    let t = |r: &Run| r.rows.t.clone();
+    let mm = |r: &Run| history(r, name).iter().map(|v| v * 1e3).collect();
     let mut series = vec![Series::new(
         "modal (Δt = 1e-5)",
         t(reference),
@@ -275,10 +279,10 @@ fn figure(
     title: &str,
     reference: &Run,
     runs: &[(String, &Run)],
-    get: fn(&Record) -> f64,
+    column: &str,
     ylabel: &str,
 ) -> crate::Result<(String, String)> {
-    let svg = plot::svg(&plot_of(title, reference, runs, get, ylabel))?;
+    let svg = plot::svg(&plot_of(title, reference, runs, column, ylabel))?;
     Ok((format!("{name}.svg"), svg))
 }
 
@@ -337,17 +341,13 @@ pub fn validate(sets: &[String], scheme: Scheme, mut step: impl FnMut(String)) -
         comps.push(c);
         let runs = [("FE, 20 el., Δt = 1 ms".to_string(), &r)];
         let cells: Vec<Plot> = [
-            (
-                "midspan Y",
-                midspan_y as fn(&Record) -> f64,
-                "midspan_y (mm)",
-            ),
-            ("midspan Z", midspan_z, "midspan_z (mm)"),
-            ("wheel 1 Y", wheel1_y, "wheel1_y (mm)"),
-            ("wheel 1 Z", wheel1_z, "wheel1_z (mm)"),
+            ("midspan Y", "midspan_y", "midspan_y (mm)"),
+            ("midspan Z", "midspan_z", "midspan_z (mm)"),
+            ("wheel 1 Y", "wheel1_y", "wheel1_y (mm)"),
+            ("wheel 1 Z", "wheel1_z", "wheel1_z (mm)"),
         ]
         .iter()
-        .map(|(what, get, ylabel)| plot_of(what, reference, &runs, *get, ylabel))
+        .map(|(what, column, ylabel)| plot_of(what, reference, &runs, column, ylabel))
         .collect();
         let title = format!("§4.3 (Fig. 2) at {speed} m/s{}", overrides(sets));
         let fig = panels(&title, &cells)?;
@@ -377,7 +377,7 @@ pub fn validate(sets: &[String], scheme: Scheme, mut step: impl FnMut(String)) -
         ),
         reference,
         &el_refs,
-        midspan_z,
+        "midspan_z",
         "midspan_z (mm)",
     )?);
     // §4.5: time steps at 100 m/s.
@@ -403,7 +403,7 @@ pub fn validate(sets: &[String], scheme: Scheme, mut step: impl FnMut(String)) -
         ),
         reference,
         &dt_refs,
-        midspan_z,
+        "midspan_z",
         "midspan_z (mm)",
     )?);
     figs.push(figure(
@@ -415,7 +415,7 @@ pub fn validate(sets: &[String], scheme: Scheme, mut step: impl FnMut(String)) -
         ),
         reference,
         &dt_refs,
-        wheel1_z,
+        "wheel1_z",
         "wheel1_z (mm)",
     )?);
     // Fig. 5: mean Newton–Raphson iterations per step against Δt.
@@ -423,12 +423,7 @@ pub fn validate(sets: &[String], scheme: Scheme, mut step: impl FnMut(String)) -
     for dt in [1e-5, 1e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2] {
         step(format!("Fig. 5 iterations at Δt = {dt} s"));
         let (r, _) = fe(&base, 100.0, 20, dt)?;
-        let its: Vec<u32> = r.records.iter().skip(1).map(|x| x.iterations).collect();
-        study.push((
-            dt,
-            its.iter().map(|&i| i as f64).sum::<f64>() / its.len() as f64,
-            its.iter().copied().max().unwrap_or(0),
-        ));
+        study.push((dt, r.mean_iterations, r.max_iterations));
     }
     let study_pass = study.last().map(|l| l.1) > study.first().map(|f| f.1);
     let pass = comps.iter().all(|c| c.pass) && study_pass;

@@ -7,9 +7,10 @@ use maglev_firmware_sim::protocol::Request;
 use maglev_firmware_sim::supervision::Event;
 use maglev_host_sim::case::Case;
 use maglev_host_sim::hil::board::SensorFault;
+use maglev_host_sim::hil::compare;
 use maglev_host_sim::hil::link::{serve, InProc, Link, LinkFaults, StreamLink};
 use maglev_host_sim::hil::HilSettings;
-use maglev_host_sim::probes::NoRecorder;
+use maglev_host_sim::probes::Rows;
 use maglev_host_sim::setup::{simulate, Controllers, Run as HilOutcome};
 use std::os::unix::net::UnixStream;
 use std::time::Duration;
@@ -18,10 +19,13 @@ fn scenario(t_end: &str) -> Case {
     Case::load("paper-4.2", &[format!("t_end={t_end}")]).unwrap()
 }
 
-/// A HIL passage of `case` with the firmware behind `link`.
-fn execute_hil(case: &Case, hs: &HilSettings, link: &mut dyn Link) -> HilOutcome {
+/// A HIL passage of `case` with the firmware behind `link`: its outcome and its default
+/// columns (midspan and wheel 1) step by step.
+fn execute_hil(case: &Case, hs: &HilSettings, link: &mut dyn Link) -> (HilOutcome, Rows) {
     let firmware = Controllers::Firmware { settings: hs, link };
-    simulate(case, firmware, &mut NoRecorder, |_| {}).unwrap()
+    let mut rows = compare::recorder();
+    let run = simulate(case, firmware, &mut rows, |_| {}).unwrap();
+    (run, rows)
 }
 
 /// A firmware on a thread behind a Unix socket pair: the same bytes as the host process.
@@ -35,7 +39,7 @@ fn socket_link(faults: LinkFaults, timeout_ms: u64) -> StreamLink {
     link
 }
 
-fn run(link: &mut dyn Link, hs: &HilSettings, t_end: &str) -> HilOutcome {
+fn run(link: &mut dyn Link, hs: &HilSettings, t_end: &str) -> (HilOutcome, Rows) {
     execute_hil(&scenario(t_end), hs, link)
 }
 
@@ -49,16 +53,21 @@ fn gap_loop_scenario(t_end: &str) -> Case {
     Case::load("paper-4.2", &sets).unwrap()
 }
 
-fn bits(o: &HilOutcome) -> Vec<[u64; 4]> {
-    o.outcome
-        .records
-        .iter()
-        .map(|r| {
+/// Wheel 1's gap (m) or force (N) at every step.
+fn wheel1(r: &Rows, q: &str) -> Vec<f64> {
+    r.column(&format!("wheel1_{q}_z")).unwrap()
+}
+
+fn bits((_, r): &(HilOutcome, Rows)) -> Vec<[u64; 4]> {
+    let midspan = r.column("midspan_z").unwrap();
+    let (gap, force) = (wheel1(r, "gap"), wheel1(r, "force"));
+    (0..r.t.len())
+        .map(|k| {
             [
-                r.midspan.z.to_bits(),
-                r.wheel1_gap_z.to_bits(),
-                r.wheel1_force_z.to_bits(),
-                r.iterations as u64,
+                midspan[k].to_bits(),
+                gap[k].to_bits(),
+                force[k].to_bits(),
+                r.iterations[k] as u64,
             ]
         })
         .collect()
@@ -102,11 +111,11 @@ fn gap_loop_firmware_holds_the_gap_bit_identically_over_the_stream_link() {
     let mut link = socket_link(LinkFaults::default(), 2000);
     let b = execute_hil(&sc, &hs, &mut link);
     assert_eq!(bits(&a), bits(&b));
-    assert_eq!(a.events, b.events);
+    assert_eq!(a.0.events, b.0.events);
     // Past the time the paper law on EMS magnets collides (t = 0.075 s) without any event, the
     // gap within 3 mm of h0.
-    assert!(a.events.is_empty(), "{:?}", a.events.first());
-    let gaps = a.outcome.records.iter().map(|r| r.wheel1_gap_z);
+    assert!(a.0.events.is_empty(), "{:?}", a.0.events.first());
+    let gaps = wheel1(&a.1, "gap").into_iter();
     let (lo, hi) = gaps.fold((f64::MAX, f64::MIN), |(l, h), g| (l.min(g), h.max(g)));
     assert!(lo > 0.009 && hi < 0.0135, "{lo} … {hi}");
     // The paper's law on the same passage (paper geometry) differs.
@@ -116,10 +125,9 @@ fn gap_loop_firmware_holds_the_gap_bit_identically_over_the_stream_link() {
     );
     // Against the ideal core run of the same law: close (the ideal samples the outer loop once
     // per 1 ms host step, the firmware once per 100 µs tick; docs/hil.md).
-    let ideal = simulate(&sc, Controllers::Core, &mut NoRecorder, |_| {})
-        .unwrap()
-        .outcome;
-    let c = maglev_host_sim::hil::compare::compare(&a.outcome.records, &ideal.records).unwrap();
+    let mut ideal = compare::recorder();
+    simulate(&sc, Controllers::Core, &mut ideal, |_| {}).unwrap();
+    let c = compare::compare(&a.1, &ideal, None).unwrap();
     assert!(c.wheel1_gap_z.relative < 0.03, "{c:?}");
     assert!(c.midspan_z.relative < 0.01, "{c:?}");
     assert!(
@@ -142,22 +150,20 @@ fn f32_firmware_and_delay_run_and_differ_from_the_default() {
     for hs in [f32s, delayed] {
         let o = run(&mut InProc::default(), &hs, "0.03");
         assert_ne!(bits(&o), bits(&base));
-        let d = o
-            .outcome
-            .records
+        let d = wheel1(&o.1, "gap")
             .iter()
-            .zip(&base.outcome.records)
-            .map(|(a, b)| (a.wheel1_gap_z - b.wheel1_gap_z).abs())
+            .zip(&wheel1(&base.1, "gap"))
+            .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
         assert!(d < 1e-6, "{d}");
     }
 }
 
-fn first(o: &HilOutcome, e: Event) -> Option<f64> {
+fn first((o, _): &(HilOutcome, Rows), e: Event) -> Option<f64> {
     o.events.iter().find(|r| r.events.contains(e)).map(|r| r.t)
 }
 
-fn with_fault(spec: &str) -> HilOutcome {
+fn with_fault(spec: &str) -> (HilOutcome, Rows) {
     let hs = HilSettings {
         sensor_faults: vec![spec.parse::<SensorFault>().unwrap()],
         ..HilSettings::default()
@@ -200,12 +206,11 @@ fn sensor_faults_raise_events_at_the_documented_times() {
     // wheel 1's force falls step by step while the clean run's holds (within 1 %), and it ends
     // below the clean run's. (The undriven coil decays with τ = G0/(R0·h) ≈ 0.4 s, so 18 ms
     // take the force down by about 9 %.)
-    let forces = |o: &HilOutcome| -> Vec<f64> {
-        o.outcome
-            .records
-            .iter()
-            .filter(|r| r.t > 0.023)
-            .map(|r| r.wheel1_force_z)
+    let forces = |(_, r): &(HilOutcome, Rows)| -> Vec<f64> {
+        r.t.iter()
+            .zip(wheel1(r, "force"))
+            .filter(|(&t, _)| t > 0.023)
+            .map(|(_, f)| f)
             .collect()
     };
     let (f, c) = (forces(&o), forces(&clean));

@@ -11,7 +11,7 @@ use maglev_host_sim::cars::wheel_rail::WheelRail;
 use maglev_host_sim::fe::viaduct::{paper5_viaduct, Viaduct};
 use maglev_host_sim::fe::FeGuideway;
 use maglev_host_sim::guideway::{Bridge, Guideway};
-use maglev_host_sim::probes::{BodyQ, PierQ, Probe, Probes, Recorder, StepView, WheelQ};
+use maglev_host_sim::probes::{BodyQ, PierQ, Probe, Probes, Rows, SectionQ, WheelQ};
 use maglev_host_sim::profile::Profile;
 use maglev_host_sim::setup::RigidGuideway;
 use maglev_host_sim::simulation::{simulate, Load, Outcome, Profiles, Settings};
@@ -20,18 +20,10 @@ use maglev_host_sim::vehicle::Train;
 const DT: f64 = 2e-3;
 const SPEED: f64 = 83.33;
 
-/// Records the given probes at every step.
-struct Collect {
-    probes: Vec<Probe>,
-    rows: Vec<Vec<f64>>,
-}
-
-impl Recorder for Collect {
-    fn record(&mut self, step: &StepView) -> maglev_host_sim::Result<()> {
-        self.rows
-            .push(self.probes.iter().map(|p| step.value(p)).collect());
-        Ok(())
-    }
+/// An in-memory recorder of `probes` (named by their `Debug` text).
+fn collect(probes: Vec<Probe>) -> Rows {
+    let names = probes.iter().map(|p| format!("{p:?}")).collect();
+    Rows::new(Probes { names, probes })
 }
 
 fn settings(
@@ -74,7 +66,7 @@ fn table1(length: f64) -> Profiles {
     }
 }
 
-fn run(g: &mut impl Guideway, t: &Train, p: &Profiles, s: &Settings, rec: &mut Collect) -> Outcome {
+fn run(g: &mut impl Guideway, t: &Train, p: &Profiles, s: &Settings, rec: &mut Rows) -> Outcome {
     simulate(g, &Load::Vehicle(t.clone()), p, s, rec, |_| {}).unwrap()
 }
 
@@ -115,10 +107,7 @@ fn fig6_train_on_a_rigid_rail_rests_when_smooth_and_flies_over_the_irregularity(
     }
     for (name, law, geometry) in cases {
         let s = settings(SPEED, 1.0, law, geometry, vec![]);
-        let mut rec = Collect {
-            probes: probes.clone(),
-            rows: vec![],
-        };
+        let mut rec = collect(probes.clone());
         let out = run(
             &mut RigidGuideway::new(DT),
             &train,
@@ -139,10 +128,7 @@ fn fig6_train_on_a_rigid_rail_rests_when_smooth_and_flies_over_the_irregularity(
         // Round-off: the static state is exact, so every deviation is a few ulps of h0.
         assert!(body < 1e-13 && gap < 1e-15, "{name}: {body:e} {gap:e}");
 
-        let mut rec = Collect {
-            probes: probes.clone(),
-            rows: vec![],
-        };
+        let mut rec = collect(probes.clone());
         let out = run(
             &mut RigidGuideway::new(DT),
             &train,
@@ -155,8 +141,8 @@ fn fig6_train_on_a_rigid_rail_rests_when_smooth_and_flies_over_the_irregularity(
             .iter()
             .flat_map(|r| r.iter().map(|g| g.0))
             .fold(f64::INFINITY, f64::min);
-        let its = out.records.iter().skip(1).map(|r| r.iterations).max();
-        println!("{name}: Table 1 rail, min gap {min_gap:.3e} m, max iterations {its:?}");
+        let its = out.max_iterations;
+        println!("{name}: Table 1 rail, min gap {min_gap:.3e} m, max iterations {its}");
         assert_eq!(out.collision_steps, 0, "{name}: min gap {min_gap}");
         assert_eq!(out.unconverged_steps, 0, "{name}");
         assert!(rec.rows.iter().flatten().all(|v| v.is_finite()));
@@ -179,10 +165,7 @@ fn wheel_rail_contact_forces_on_a_smooth_rigid_rail_are_the_hand_axle_loads() {
             q: WheelQ::ForceZ,
         })
         .collect();
-    let mut rec = Collect {
-        probes,
-        rows: vec![],
-    };
+    let mut rec = collect(probes);
     let s = settings(SPEED, 1.0, LawKind::Paper, Geometry::Paper, vec![]);
     let out = run(
         &mut RigidGuideway::new(DT),
@@ -201,11 +184,10 @@ fn wheel_rail_contact_forces_on_a_smooth_rigid_rail_are_the_hand_axle_loads() {
         .fold(0.0, f64::max);
     println!("hand share {share:.3} N, max deviation {worst:.2e} N");
     assert!(worst <= 1e-9 * share, "{worst}");
-    // The same through the outcome's ranges and wheel 1's record.
+    // The same through the outcome's ranges.
     for &(lo, hi) in &out.contact_ranges {
         assert!((lo - share).abs() <= 1e-9 * share && (hi - share).abs() <= 1e-9 * share);
     }
-    assert!((out.records[250].wheel1_force_z - share).abs() <= 1e-9 * share);
 }
 
 /// The contact can only push: a car dropped onto a rail that falls away 1 mm under it (a
@@ -221,10 +203,7 @@ fn a_wheel_over_a_falling_rail_lifts_off_and_its_force_is_clamped_at_zero() {
         wheel: 0,
         q: WheelQ::ForceZ,
     }];
-    let mut rec = Collect {
-        probes,
-        rows: vec![],
-    };
+    let mut rec = collect(probes);
     let s = settings(10.0, 0.5, LawKind::Paper, Geometry::Paper, vec![]);
     let out = run(&mut RigidGuideway::new(DT), &train, &profiles, &s, &mut rec);
     // The static compression is P0/k_h ≈ 60 µm ≪ 1 mm: the leading wheel leaves the rail.
@@ -264,10 +243,10 @@ fn wheel_rail_car_over_one_span_at_low_speed_deflects_as_the_static_axle_loads()
     // Long enough for the last axle (20 m behind) to leave the span.
     let t_end = (l + 22.0) / v;
     let s = settings(v, t_end, LawKind::Paper, Geometry::Paper, vec![l / 2.0]);
-    let mut rec = Collect {
-        probes: vec![],
-        rows: vec![],
-    };
+    let mut rec = collect(vec![Probe::Midspan {
+        span: 0,
+        q: SectionQ::Z,
+    }]);
     let out = run(&mut g, &train, &Profiles::smooth(), &s, &mut rec);
     assert_eq!(out.contact_loss_steps, 0);
     assert_eq!(out.unconverged_steps, 0);
@@ -289,12 +268,12 @@ fn wheel_rail_car_over_one_span_at_low_speed_deflects_as_the_static_axle_loads()
     let tol = alpha / (1.0 - alpha) * w_all.abs();
     let mut worst = 0.0f64;
     let mut peak = 0.0f64;
-    for r in &out.records {
-        let want: f64 = train.contacts.iter().map(|c| w_mid(c.x0 + v * r.t)).sum();
-        worst = worst.max((r.midspan.z - want).abs());
+    for (&t, row) in rec.t.iter().zip(&rec.rows) {
+        let want: f64 = train.contacts.iter().map(|c| w_mid(c.x0 + v * t)).sum();
+        worst = worst.max((row[0] - want).abs());
         peak = peak.max(want.abs());
     }
-    let its: Vec<u32> = out.records.iter().skip(1).map(|r| r.iterations).collect();
+    let its = &rec.iterations[1..];
     println!(
         "f1 {f1:.3} Hz, α {alpha:.2e}: max |w − w_static| {worst:.3e} m, tolerance {tol:.3e} m, \
          peak static {peak:.3e} m; iterations {}–{}",
@@ -307,12 +286,7 @@ fn wheel_rail_car_over_one_span_at_low_speed_deflects_as_the_static_axle_loads()
 
 // ------------------------------------------------------------------ over the paper-5 viaduct
 
-fn viaduct_run(
-    train: &Train,
-    spans: usize,
-    steps: usize,
-    names: &[&str],
-) -> (Outcome, Collect, f64) {
+fn viaduct_run(train: &Train, spans: usize, steps: usize, names: &[&str]) -> (Outcome, Rows, f64) {
     viaduct_run_on(train, spans, steps, names, &Profiles::smooth())
 }
 
@@ -322,7 +296,7 @@ fn viaduct_run_on(
     steps: usize,
     names: &[&str],
     profiles: &Profiles,
-) -> (Outcome, Collect, f64) {
+) -> (Outcome, Rows, f64) {
     let spec = paper5_viaduct().with_spans(spans);
     let mut g = Viaduct::new(&spec, DT).unwrap();
     let midspans: Vec<f64> = (0..spans)
@@ -344,10 +318,7 @@ fn viaduct_run_on(
     let names: Vec<String> = names.iter().map(|s| s.to_string()).collect();
     let probes = Probes::new(Some(&names), &extent).unwrap();
     probes.check_guideway(&g).unwrap();
-    let mut rec = Collect {
-        probes: probes.probes,
-        rows: vec![],
-    };
+    let mut rec = Rows::new(probes);
     let start = std::time::Instant::now();
     let out = run(&mut g, train, profiles, &s, &mut rec);
     (out, rec, start.elapsed().as_secs_f64())
@@ -387,7 +358,7 @@ fn two_car_trains_cross_three_viaduct_spans() {
         assert_eq!(out.unconverged_steps, 0, "{kind}");
         assert!(rec.rows.iter().flatten().all(|v| v.is_finite()), "{kind}");
         let max = |c: usize| rec.rows.iter().map(|r| r[c].abs()).fold(0.0, f64::max);
-        let its: Vec<u32> = out.records.iter().skip(1).map(|r| r.iterations).collect();
+        let its = &rec.iterations[1..];
         let mean = its.iter().sum::<u32>() as f64 / its.len() as f64;
         // Where the contacts lifted off: distance past the nearest viaduct end.
         let mut lift_offs = Vec::new();
@@ -501,8 +472,8 @@ fn timing_of_12_car_trains_over_35_spans() {
             &rough,
         ),
     ] {
-        let (out, _, wall) = viaduct_run_on(&train, 35, 5000, &names, profiles);
-        let its: Vec<u32> = out.records.iter().skip(1).map(|r| r.iterations).collect();
+        let (out, rec, wall) = viaduct_run_on(&train, 35, 5000, &names, profiles);
+        let its = &rec.iterations[1..];
         let mean = its.iter().sum::<u32>() as f64 / its.len() as f64;
         println!(
             "{kind}: 12 cars, 35 spans, 5000 steps: {wall:.1} s wall; iterations mean {mean:.2}, \

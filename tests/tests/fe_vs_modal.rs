@@ -2,32 +2,30 @@
 //! simulation → records): a moving constant force and a short coupled maglev run.
 
 use maglev_host_sim::case::Case;
+use maglev_host_sim::probes::{Probes, Rows};
 use maglev_host_sim::setup::{simulate, Controllers};
-use maglev_host_sim::simulation::Record;
 
-fn run(name: &str, sets: &[&str]) -> Vec<Record> {
+/// The run's default columns (midspan and wheel 1), step by step.
+fn run(name: &str, sets: &[&str]) -> Rows {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     let case = Case::load(name, &sets).unwrap();
-    let o = simulate(
-        &case,
-        Controllers::Core,
-        &mut maglev_host_sim::probes::NoRecorder,
-        |_| {},
-    )
-    .unwrap()
-    .outcome;
+    let mut rows = Rows::new(Probes::default_columns());
+    let o = simulate(&case, Controllers::Core, &mut rows, |_| {})
+        .unwrap()
+        .outcome;
     assert_eq!(o.unconverged_steps, 0);
-    o.records
+    rows
 }
 
-/// Largest |a − b| over the common times (b sampled on a finer, commensurate grid),
-/// relative to b's peak.
-fn max_rel_diff(a: &[Record], b: &[Record], get: fn(&Record) -> f64) -> f64 {
-    let ratio = ((a[1].t - a[0].t) / (b[1].t - b[0].t)).round() as usize;
-    let peak = b.iter().map(|r| get(r).abs()).fold(0.0, f64::max);
-    a.iter()
+/// Largest |a − b| of column `name` over the common times (b sampled on a finer,
+/// commensurate grid), relative to b's peak.
+fn max_rel_diff(a: &Rows, b: &Rows, name: &str) -> f64 {
+    let ratio = ((a.t[1] - a.t[0]) / (b.t[1] - b.t[0])).round() as usize;
+    let (ya, yb) = (a.column(name).unwrap(), b.column(name).unwrap());
+    let peak = yb.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    ya.iter()
         .enumerate()
-        .filter_map(|(i, r)| b.get(i * ratio).map(|q| (get(r) - get(q)).abs()))
+        .filter_map(|(i, v)| yb.get(i * ratio).map(|q| (v - q).abs()))
         .fold(0.0, f64::max)
         / peak
 }
@@ -39,7 +37,12 @@ fn moving_force_fe_matches_modal_peak() {
     // solution; the modal reference itself is within 1e-4 of exact at this Δt).
     let fe = run("moving-force", &["speed=100", "model=fe", "dt=1e-4"]);
     let mo = run("moving-force", &["speed=100", "model=modal", "dt=1e-4"]);
-    let peak = |r: &[Record]| r.iter().map(|x| x.midspan.z).fold(0.0, f64::min);
+    let peak = |r: &Rows| {
+        r.column("midspan_z")
+            .unwrap()
+            .into_iter()
+            .fold(0.0, f64::min)
+    };
     let (pf, pm) = (peak(&fe), peak(&mo));
     assert!(pm < 0.0, "the force pushes the beam down");
     assert!(((pf - pm) / pm).abs() < 3e-3, "FE {pf} vs modal {pm}");
@@ -58,15 +61,14 @@ fn short_coupled_run_fe_matches_modal() {
         "paper-4.2",
         &[&common[..], &["model=modal", "dt=1e-5", "nsub=1"]].concat(),
     );
-    let mid = max_rel_diff(&fe, &mo, |r| r.midspan.z);
-    let w1 = max_rel_diff(&fe, &mo, |r| r.wheel1_z);
+    let mid = max_rel_diff(&fe, &mo, "midspan_z");
+    let w1 = max_rel_diff(&fe, &mo, "wheel1_z");
     assert!(mid <= 0.01, "midspan Z differs by {mid:e} of the peak");
     assert!(w1 <= 0.02, "wheel 1 Z differs by {w1:e} of the peak");
 }
 
 /// Each span's midspan deflection under `sets` on three unequal spans.
 fn midspans(sets: &[&str]) -> Vec<Vec<f64>> {
-    use maglev_host_sim::probes::Rows;
     let mut all: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     all.push("bridge.spans_m=[25.0, 30.0, 20.0]".into());
     all.push(

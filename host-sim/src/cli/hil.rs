@@ -7,6 +7,7 @@ use crate::hil::compare::{compare, Comparison};
 use crate::hil::link::{InProc, Link, LinkFaults, LinkStats, StreamLink};
 use crate::hil::{HilSettings, HIL_KEYS};
 use crate::output::{response_recorder, write_run, Columns, Staging, Summary};
+use crate::probes::Tee;
 use crate::setup::{simulate, Controllers, Run};
 use crate::{Error, Result};
 use maglev_firmware_sim::supervision::Event;
@@ -302,7 +303,14 @@ fn run_inner(args: Args) -> Result<()> {
         settings: &hs,
         link: link.as_mut(),
     };
-    let outcome = simulate(&case, firmware, &mut rec, |f| bar.fraction(f))?;
+    // With --compare, the HIL run's compared histories are kept in memory too.
+    let mut hil_rows = crate::hil::compare::recorder();
+    let outcome = if args.compare {
+        let mut both = Tee(&mut rec, &mut hil_rows);
+        simulate(&case, firmware, &mut both, |f| bar.fraction(f))?
+    } else {
+        simulate(&case, firmware, &mut rec, |f| bar.fraction(f))?
+    };
     let wall = outcome.wall;
     drop(bar);
     rec.finish()?;
@@ -311,25 +319,12 @@ fn run_inner(args: Args) -> Result<()> {
     let (events, first_fault_s) = event_counts(&outcome);
     let (cmp, cmp_before) = if args.compare {
         let mut bar = Progress::run("hil: ideal run");
-        let ideal = simulate(
-            &case,
-            Controllers::Core,
-            &mut crate::probes::NoRecorder,
-            |f| bar.fraction(f),
-        )?
-        .outcome;
+        let mut ideal = crate::hil::compare::recorder();
+        simulate(&case, Controllers::Core, &mut ideal, |f| bar.fraction(f))?;
         drop(bar);
-        let all = compare(&outcome.outcome.records, &ideal.records)?;
+        let all = compare(&hil_rows, &ideal, None)?;
         let before = match first_fault_s {
-            Some(tf) => {
-                let k = outcome
-                    .outcome
-                    .records
-                    .iter()
-                    .take_while(|r| r.t < tf)
-                    .count();
-                Some(compare(&outcome.outcome.records[..k], &ideal.records[..k])?)
-            }
+            Some(tf) => Some(compare(&hil_rows, &ideal, Some(tf))?),
             None => None,
         };
         (Some(all), before)

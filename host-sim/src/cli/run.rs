@@ -63,11 +63,10 @@ pub fn warn(outcome: &Outcome) {
         );
     }
     if outcome.collision_steps > 0 {
-        let first = outcome.records.iter().find(|r| r.collision).map(|r| r.t);
         eprintln!(
             "maglev: warning: {} step(s) with a collision (some magnet's gap ≤ 0), the first at t = {} s; the run went on with the gap clamped in the law, so the histories after it are not physical",
             outcome.collision_steps,
-            first.unwrap_or(f64::NAN)
+            outcome.first_collision_t.unwrap_or(f64::NAN)
         );
     }
 }

@@ -77,11 +77,7 @@ pub fn run_one(spec: &Spec, run: &Run) -> Record {
             crate::setup::simulate(&case, crate::setup::Controllers::Core, &mut reducer, |_| {})?
                 .outcome;
         let values = reducer.finish()?;
-        Ok((
-            outcome.records.len().saturating_sub(1),
-            outcome.collision_steps,
-            values,
-        ))
+        Ok((outcome.steps, outcome.collision_steps, values))
     }));
     let wall_s = start.elapsed().as_secs_f64();
     let one_line = |s: String| s.split_whitespace().collect::<Vec<_>>().join(" ");

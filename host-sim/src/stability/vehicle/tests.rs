@@ -153,22 +153,26 @@ fn disturbed(sets: &[&str], t_end: f64, step_m: f64) -> Vec<(f64, f64)> {
         y: Box::new(step),
         z: Box::new(step),
     };
+    let mut rec = crate::probes::Rows::new(crate::probes::Probes::default_columns());
     let out = simulate(
         &mut pa.guideway,
         &pa.load,
         &pa.profiles,
         &pa.settings,
-        &mut crate::probes::NoRecorder,
+        &mut rec,
         |_| {},
     )
     .unwrap();
     assert_eq!(out.collision_steps, 0);
-    out.records
-        .windows(2)
-        .map(|w| {
-            let dz = (w[1].wheel1_gap_z - w[0].wheel1_gap_z).abs();
-            let dy = (w[1].wheel1_y - w[0].wheel1_y).abs();
-            (w[1].t, dz.max(dy))
+    let (gap, y) = (
+        rec.column("wheel1_gap_z").unwrap(),
+        rec.column("wheel1_y").unwrap(),
+    );
+    (1..rec.t.len())
+        .map(|k| {
+            let dz = (gap[k] - gap[k - 1]).abs();
+            let dy = (y[k] - y[k - 1]).abs();
+            (rec.t[k], dz.max(dy))
         })
         .collect()
 }
