@@ -11,7 +11,8 @@ use std::path::PathBuf;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// A scenario TOML file, or a bundled name (paper-4.2, paper-5, train-forces,
-    /// moving-force).
+    /// moving-force). Every section and key, with its unit, default and accepted range:
+    /// docs/scenarios.md.
     pub scenario: String,
     /// Override a scenario value: train, speed, model, elements, modes, dt, t_end, nsub, alpha,
     /// law, scheme, seed, geometry, or section.key (repeatable).
