@@ -917,11 +917,23 @@ fn law(
     };
     match key {
         LawName::Paper => Ok(LawKind::Paper),
-        LawName::State => Err(Error::invalid(
-            "controller.law",
-            "`state` runs from the core's API (maglev_core::law::state); scenarios cannot \
-             give its gains yet",
-        )),
+        LawName::State => {
+            let gains = sc
+                .controller
+                .as_ref()
+                .and_then(|c| c.state)
+                .ok_or_else(|| {
+                    Error::invalid(
+                        "controller.state",
+                        "law = \"state\" needs its gains: kp_V_per_m, kd_V_s_per_m, \
+                     ka_V_s2_per_m, ki_V_per_m_s, kc_V_per_A, vmax_V (docs/scenarios.md)",
+                    )
+                })?;
+            let law = maglev_core::law::state::StateParams { geometry, ..gains };
+            law.validate()
+                .map_err(|e| Error::invalid("controller.state", e.to_string()))?;
+            Ok(LawKind::State(law))
+        }
         LawName::GapLoop => Ok(LawKind::GapLoop(match train {
             // Gains designed for this case's car, inner law and geometry (docs/gap-loop.md);
             // a train of forces has no magnets to run them.

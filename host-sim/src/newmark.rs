@@ -217,6 +217,19 @@ impl Newmark {
         &self.trial.d
     }
 
+    /// Trial acceleration of DOF `i` at t + dt (valid after [`Newmark::solve`]; Eq. 19, as
+    /// the commit completes it).
+    pub fn a1(&self, i: usize) -> f64 {
+        let c = &self.committed;
+        crate::fe::newmark::acceleration_at_end(
+            self.integrator.time_step(),
+            c.d[i],
+            c.v[i],
+            c.a[i],
+            self.trial.d[i],
+        )
+    }
+
     /// Solves the step's displacement for the load `f` at t + dt, from the committed state:
     /// the load-free response (once per step) plus `Keff⁻¹ f` over the non-zero entries of
     /// `f` (module docs). No allocation.

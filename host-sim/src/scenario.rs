@@ -4,6 +4,7 @@
 
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
+use maglev_core::law::state::StateParams;
 use maglev_core::{Interpolation, LawName, Scheme};
 use serde::{Deserialize, Serialize};
 
@@ -248,13 +249,17 @@ pub struct ControllerSection {
     pub nsub: u32,
     pub interp: Interpolation,
     pub vmax_V: f64,
-    /// `paper` (Eq. 8–14 alone, the default) or `gap-loop` (the outer gap loop of
-    /// `maglev_core::gap_control` at its designed gains around the paper's law).
+    /// `paper` (Eq. 8–14 alone, the default), `gap-loop` (the outer gap loop of
+    /// `maglev_core::gap_control` at its designed gains around the paper's law) or `state`
+    /// (state feedback with the gains of `[controller.state]`).
     #[serde(default)]
     pub law: LawName,
     /// `paper` (Eq. 14 with `nsub` sub-steps, the default) or `accurate` (Gauss–Legendre).
     #[serde(default)]
     pub scheme: Scheme,
+    /// The state law's gains and timing (`[controller.state]`, keys with their units:
+    /// `maglev_core::law::state::StateParams`), used when `law = "state"`.
+    pub state: Option<StateParams>,
 }
 
 #[derive(Deserialize, Serialize, Debug, Clone)]

@@ -141,13 +141,15 @@ pub trait Magnets {
     /// Per wheel `(G_z, G_y)` (N, magnet forces, positive up and along +Y) over step `step`
     /// ending at `t`, as the gaps move from `gaps_prev` (committed, at t − Δt) to `gaps_next`
     /// (the current iterate, at t). Always starts from the committed state, so the loop may
-    /// call it several times per step.
+    /// call it several times per step. `accels` is each wheel's vertical acceleration at the
+    /// iterate (m/s², Z up, absolute): what an accelerometer on the levitation magnet reads.
     fn forces(
         &mut self,
         step: u32,
         t: f64,
         gaps_prev: &[WheelGaps],
         gaps_next: &[WheelGaps],
+        accels: &[f64],
         out: &mut [(f64, f64)],
     ) -> Result<()>;
 

@@ -322,6 +322,14 @@ fn required_on_the_page_is_required_by_the_code() {
         .map(|(n, t)| (n.to_string(), t.to_string()))
         .collect();
     samples.push(("from-scratch".into(), EXAMPLE.into()));
+    // The state law's gains, the one sub-table no file has.
+    samples.push((
+        "from-scratch, state law".into(),
+        EXAMPLE.replace("law = \"gap-loop\"", "law = \"state\"")
+            + "\n[controller.state]\nkp_V_per_m = 12900.0\nkd_V_s_per_m = 1900.0\n\
+               ka_V_s2_per_m = 0.0\nki_V_per_m_s = 2150.0\nkc_V_per_A = 1.0\nvmax_V = 300.0\n\
+               rate_Hz = 10000.0\nobserver_Hz = 300.0\n",
+    ));
     // paper-5's train as the one kind no file has: its [train] holds `cars` only.
     let p5 = BUNDLED.iter().find(|(n, _)| *n == "paper-5").unwrap().1;
     samples.push((

@@ -58,6 +58,7 @@ use core::f64::consts::PI;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct StateParams {
     /// Gap gain `kp` (V/m).
     #[cfg_attr(feature = "serde", serde(rename = "kp_V_per_m"))]
@@ -78,13 +79,21 @@ pub struct StateParams {
     #[cfg_attr(feature = "serde", serde(rename = "vmax_V"))]
     pub v_max: f64,
     /// Control rate (Hz).
-    #[cfg_attr(feature = "serde", serde(rename = "rate_Hz"))]
+    #[cfg_attr(
+        feature = "serde",
+        serde(rename = "rate_Hz", default = "StateParams::default_rate")
+    )]
     pub rate_hz: f64,
     /// Gap-rate observer bandwidth (Hz).
-    #[cfg_attr(feature = "serde", serde(rename = "observer_Hz"))]
+    #[cfg_attr(
+        feature = "serde",
+        serde(rename = "observer_Hz", default = "StateParams::default_observer")
+    )]
     pub observer_hz: f64,
     /// How the magnet faces its rail: the sign by which the magnet's upward motion moves
-    /// the gap (docs/model.md §2).
+    /// the gap (docs/model.md §2). Not serialised: it is the vehicle's, set where the law
+    /// meets its magnet.
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub geometry: Geometry,
 }
 
@@ -93,6 +102,16 @@ impl StateParams {
     pub const RATE_HZ: f64 = 10_000.0;
     /// Default observer bandwidth (Hz).
     pub const OBSERVER_HZ: f64 = 300.0;
+
+    #[cfg(feature = "serde")]
+    fn default_rate() -> f64 {
+        Self::RATE_HZ
+    }
+
+    #[cfg(feature = "serde")]
+    fn default_observer() -> f64 {
+        Self::OBSERVER_HZ
+    }
 
     /// Checks every value, naming the first bad one.
     pub fn validate(&self) -> Result<(), ParamError> {

@@ -423,8 +423,15 @@ pub fn effective_stiffness(
 /// `trial.d` the displacement at t + Δt and `committed` the state at t,
 /// a₁ = a₀ (d₁ − d) − a₂ v − a (a₀ = 4/Δt², a₂ = 4/Δt) and v₁ = v + Δt (a + a₁)/2, written to
 /// both `trial` and `committed` (which becomes the state at t + Δt). No allocation.
+/// The acceleration at t + dt of a DOF at `d1` there, from its committed displacement `d0`,
+/// velocity `v0` and acceleration `acc0` at t (Eq. 19, average acceleration).
+pub fn acceleration_at_end(dt: f64, d0: f64, v0: f64, acc0: f64, d1: f64) -> f64 {
+    let (a0, a2) = (4.0 / (dt * dt), 4.0 / dt);
+    a0 * (d1 - d0) - a2 * v0 - acc0
+}
+
 pub fn complete_step(dt: f64, committed: &mut State, trial: &mut State) {
-    let (a0, a2, h) = (4.0 / (dt * dt), 4.0 / dt, dt / 2.0);
+    let h = dt / 2.0;
     let n = committed.d.len();
     let (d, v, a) = (
         &mut committed.d.as_mut_slice()[..n],
@@ -438,7 +445,7 @@ pub fn complete_step(dt: f64, committed: &mut State, trial: &mut State) {
     );
     for i in 0..n {
         let (d0, v0, acc0, d1) = (d[i], v[i], a[i], d1s[i]);
-        let acc1 = a0 * (d1 - d0) - a2 * v0 - acc0;
+        let acc1 = acceleration_at_end(dt, d0, v0, acc0, d1);
         let v1 = v0 + h * acc0 + h * acc1;
         d[i] = d1;
         v[i] = v1;

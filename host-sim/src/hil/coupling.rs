@@ -144,8 +144,10 @@ impl Magnets for FirmwareMagnets<'_> {
         _t: f64,
         gaps_prev: &[WheelGaps],
         gaps_next: &[WheelGaps],
+        _accels: &[f64],
         out: &mut [(f64, f64)],
     ) -> Result<()> {
+        // The firmware reads gap sensors only (no accelerometer channel in the protocol).
         self.step_forces(step, gaps_prev, gaps_next, out)
     }
 

@@ -9,6 +9,7 @@ use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::guidance;
 use maglev_core::levitation::batch::update_batch;
+use maglev_core::levitation::GRAVITY;
 use maglev_core::levitation::{Output, State};
 use maglev_core::{Law, LawParams, LawState, Levitation, Measurement, Status};
 
@@ -143,13 +144,20 @@ impl CoreMagnets {
 
     /// Every wheel by its own law (any law, any gap): the trial in `trial`
     /// ([`Pending::General`]).
-    fn general(&mut self, gaps_next: &[WheelGaps], out: &mut [(f64, f64)]) {
+    fn general(&mut self, gaps_next: &[WheelGaps], accels: &[f64], out: &mut [(f64, f64)]) {
         for (i, c) in self.ctl.iter().enumerate() {
             let (hz, dy) = gaps_next[i];
             let magnet = c.law.levitation().params();
             let h0 = magnet.h0;
             let mut st = c.lev_state;
-            let lev_out = c.law.update(&mut st, Measurement::gap(hz / h0));
+            let lev_out = c.law.update(
+                &mut st,
+                Measurement {
+                    gap: hz / h0,
+                    accel: Some(accels[i] / GRAVITY),
+                    current: None,
+                },
+            );
             let mut pair = c.pair;
             let pair_out = c.law.update_pair(self.geometry, &mut pair, dy / h0);
             self.status = self.status.union(lev_out.status).union(pair_out.status);
@@ -170,6 +178,7 @@ impl Magnets for CoreMagnets {
         _t: f64,
         _gaps_prev: &[WheelGaps],
         gaps_next: &[WheelGaps],
+        accels: &[f64],
         out: &mut [(f64, f64)],
     ) -> Result<()> {
         self.trial.clear();
@@ -179,7 +188,7 @@ impl Magnets for CoreMagnets {
         if finite && self.ctl.iter().all(|c| c.law.is_paper()) {
             self.paper_batch(gaps_next, out);
         } else {
-            self.general(gaps_next, out);
+            self.general(gaps_next, accels, out);
         }
         Ok(())
     }
@@ -251,6 +260,7 @@ mod tests {
             };
             let nw = train.wheels.len();
             let gaps0 = vec![(h0, 0.0); nw];
+            let accels = vec![0.0; nw];
             let mut batch = CoreMagnets::new(&train, &gaps0, &s).unwrap();
             let mut general = CoreMagnets::new(&train, &gaps0, &s).unwrap();
             let mut mixed = CoreMagnets::new(&train, &gaps0, &s).unwrap();
@@ -270,17 +280,21 @@ mod tests {
                             0.3 * h0 * noise(&mut seed),
                         );
                     }
-                    batch.forces(step, 0.0, &gaps0, &gaps, &mut fb).unwrap();
+                    batch
+                        .forces(step, 0.0, &gaps0, &gaps, &accels, &mut fb)
+                        .unwrap();
                     assert!(batch.pending == Pending::Batch);
                     general.trial.clear();
                     general.status = Status::default();
-                    general.general(&gaps, &mut fg);
+                    general.general(&gaps, &accels, &mut fg);
                     if step % 2 == 0 {
-                        mixed.forces(step, 0.0, &gaps0, &gaps, &mut fm).unwrap();
+                        mixed
+                            .forces(step, 0.0, &gaps0, &gaps, &accels, &mut fm)
+                            .unwrap();
                     } else {
                         mixed.trial.clear();
                         mixed.status = Status::default();
-                        mixed.general(&gaps, &mut fm);
+                        mixed.general(&gaps, &accels, &mut fm);
                     }
                     for i in 0..nw {
                         for (x, y) in [(fb[i], fg[i]), (fb[i], fm[i])] {

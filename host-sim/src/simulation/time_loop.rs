@@ -89,6 +89,8 @@ struct IterationState {
     gaps_prev: Vec<WheelGaps>,
     gaps_used: Vec<WheelGaps>,
     current: Vec<WheelGaps>,
+    /// Per magnet wheel: its vertical acceleration at the current iterate (m/s², Z up).
+    accels: Vec<f64>,
     /// The magnets' forces `(G_z, G_y)` and the cars' wheel loads `(G_z − p0, G_y)` (N).
     forces: Vec<(f64, f64)>,
     f: Vec<(f64, f64)>,
@@ -259,8 +261,14 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
     /// under all loads, and the new gaps and rail motion. Whether some contact lifted off.
     fn pass(&mut self, step: u32, t: f64) -> Result<bool> {
         let it = &mut self.it;
-        self.magnets
-            .forces(step, t, &it.gaps_prev, &it.current, &mut it.forces)?;
+        self.magnets.forces(
+            step,
+            t,
+            &it.gaps_prev,
+            &it.current,
+            &it.accels,
+            &mut it.forces,
+        )?;
         self.magnet_loads();
         // The car sees the rail's motion of this iterate (and the lift-off correction of the
         // last one); its contact forces follow from its solution.
@@ -324,11 +332,17 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
         let (s, at, veh) = (self.s, &self.at, &self.veh);
         for (i, w) in self.train.wheels.iter().enumerate() {
             let m = self.guideway.motion_at(at.xs[i], w.ey, w.ez);
-            let (uy, uz) = if trial {
-                (veh.u1(w.car, w.dof_y), veh.u1(w.car, w.dof_z))
+            let (uy, uz, az) = if trial {
+                let (c, y, z) = (w.car, w.dof_y, w.dof_z);
+                (veh.u1(c, y), veh.u1(c, z), veh.a1(c, z))
             } else {
-                (veh.u(w.car, w.dof_y), veh.u(w.car, w.dof_z))
+                (
+                    veh.u(w.car, w.dof_y),
+                    veh.u(w.car, w.dof_z),
+                    veh.a(w.car, w.dof_z),
+                )
             };
+            self.it.accels[i] = az;
             self.it.current[i] = (
                 s.geometry.levitation_gap(self.h0, uz, m.z, at.rz[i]),
                 maglev_core::gap::lateral_offset(uy, m.y, at.ry[i]),
@@ -499,6 +513,7 @@ impl IterationState {
         IterationState {
             gaps_used: vec![(0.0, 0.0); nw],
             current: vec![(0.0, 0.0); nw],
+            accels: vec![0.0; nw],
             gaps_prev,
             forces: v.p0.iter().map(|&p0| (p0, 0.0)).collect(),
             f: vec![(0.0, 0.0); nw],

@@ -67,6 +67,16 @@ impl TrainState {
         self.cars[car].newmark.u1()[dof]
     }
 
+    /// Committed acceleration of DOF `dof` of car `car`.
+    pub fn a(&self, car: usize, dof: usize) -> f64 {
+        self.cars[car].newmark.a()[dof]
+    }
+
+    /// Trial acceleration (after [`TrainState::solve`]).
+    pub fn a1(&self, car: usize, dof: usize) -> f64 {
+        self.cars[car].newmark.a1(dof)
+    }
+
     /// Solves every car for the wheel forces `(Δf_z, f_y)` (`G − p0` and the guidance
     /// force), one entry per magnet wheel of the train in order, and the contacts' forcing
     /// `contact` (N, one per contact: `k·(z_g − r_z)` plus any loss-of-contact correction,
