@@ -5,6 +5,7 @@
 //! The numbers come from `crate::stability`; this file only parses and prints.
 
 use super::control::ControllerArgs;
+use crate::cli::stdout::print;
 use crate::stability::discrete::{self, Step};
 use crate::stability::gap_loop::GapLoopPlant;
 use crate::stability::gauss;
@@ -216,11 +217,7 @@ pub fn table(r: &Report) -> String {
 
 pub fn run(args: Args) -> crate::Result<()> {
     if let Some(Study::Numerics) = args.study {
-        print!(
-            "{}",
-            crate::stability::numerics::study(args.ref_nsub.max(1))?
-        );
-        return Ok(());
+        return print(&crate::stability::numerics::study(args.ref_nsub.max(1))?);
     }
     if let Some(name) = &args.scenario {
         let r = scenario_report(name, &args.sets)?;
@@ -232,8 +229,7 @@ pub fn run(args: Args) -> crate::Result<()> {
             }
             Format::Table => scenario_table(&r),
         };
-        print!("{text}");
-        return Ok(());
+        return print(&text);
     }
     let r = report(&args)?;
     let text = match args.format {
@@ -243,8 +239,7 @@ pub fn run(args: Args) -> crate::Result<()> {
         }
         Format::Table => table(&r),
     };
-    print!("{text}");
-    Ok(())
+    print(&text)
 }
 
 /// The human-readable scenario table.
