@@ -8,8 +8,8 @@ use std::process::ExitCode;
 /// The exit statuses, as `maglev --help` shows them (README "Exit codes").
 const EXIT_CODES: &str = "Exit codes:
   0  done (also when the reader of stdout went away, e.g. `| head`)
-  1  the outputs are written, but a check of the result failed: validate FAIL, a statement
-     of report paper-5 that does not hold, steps that did not converge
+  1  the outputs are written, but a check of the result failed: validate FAIL, or a run
+     (run, hil) with steps that did not converge to run.tolerance_m
   2  bad input or usage, or a failure that left no result (file, numerics, firmware);
      one line on stderr naming the key and the limit
   3  run --strict: the run collided or a gap left (0, 2·h0) (the outputs are written)";

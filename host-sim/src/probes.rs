@@ -292,7 +292,17 @@ impl StepView<'_> {
     /// As [`Self::value`], keeping in `memo` the section of the last midspan read, so a
     /// span's three midspan columns query the guideway once (a row's probes in order).
     pub fn value_with(&self, p: &Probe, memo: &mut Option<(usize, SectionMotion)>) -> f64 {
-        match *p {
+        self.reading_with(p, memo).unwrap_or(f64::NAN)
+    }
+
+    /// The value of `p`, `None` where it does not apply (an empty cell) — kept apart from a
+    /// value that applies and is not finite (the run diverged, [`finite_reading`]).
+    pub fn reading_with(
+        &self,
+        p: &Probe,
+        memo: &mut Option<(usize, SectionMotion)>,
+    ) -> Option<f64> {
+        Some(match *p {
             Probe::Midspan { span, q } => {
                 let m = match *memo {
                     Some((s, m)) if s == span => m,
@@ -333,7 +343,7 @@ impl StepView<'_> {
                     Node::Contact(i) => match q {
                         WheelQ::Z => u[contact_dofs[i]],
                         WheelQ::ForceZ => contact_forces[i],
-                        WheelQ::Y | WheelQ::GapY | WheelQ::GapZ => f64::NAN,
+                        WheelQ::Y | WheelQ::GapY | WheelQ::GapZ => return None,
                     },
                 },
                 Wheels::Forces { points, forces } => {
@@ -342,7 +352,7 @@ impl StepView<'_> {
                         WheelQ::Y => self.guideway.motion_at(x, ey, ez).y,
                         WheelQ::Z => self.guideway.motion_at(x, ey, ez).z,
                         WheelQ::ForceZ => forces[wheel],
-                        WheelQ::GapY | WheelQ::GapZ => f64::NAN,
+                        WheelQ::GapY | WheelQ::GapZ => return None,
                     }
                 }
             },
@@ -351,16 +361,48 @@ impl StepView<'_> {
                     BodyQ::Z => u[body_z[car]],
                     BodyQ::Az => a[body_z[car]],
                 },
-                Wheels::Forces { .. } => f64::NAN,
+                Wheels::Forces { .. } => return None,
             },
             Probe::Pier { pier, q } => match self.guideway.pier_base(pier + 1) {
                 Some(b) => match q {
                     PierQ::Z => b.z,
                     PierQ::Az => b.az,
                 },
-                None => f64::NAN,
+                None => return None,
             },
-        }
+        })
+    }
+}
+
+/// Probe `k` of `probes` at `step` for a row: `None` where it does not apply, the value
+/// where it is finite, and an error naming the time and the probe where it is not — the one
+/// place a diverged run is told from a quantity that does not apply (both were an empty
+/// cell, and the peaks of a diverged run read 0). Every recorder goes through it.
+pub fn finite_reading(
+    step: &StepView,
+    probes: &Probes,
+    k: usize,
+    memo: &mut Option<(usize, SectionMotion)>,
+) -> Result<Option<f64>> {
+    match step.reading_with(&probes.probes[k], memo) {
+        Some(v) if !v.is_finite() => Err(diverged(step.t, &probes.names[k], v)),
+        r => Ok(r),
+    }
+}
+
+/// The error of a run whose `quantity` became `v` (not finite) at time `t`.
+fn diverged(t: f64, quantity: &str, v: f64) -> Error {
+    Error::numerical(format!(
+        "the run diverged at t = {t} s: {quantity} = {v} (not finite); no outputs are written (a value of the case may be too extreme, or run.dt_s too long)"
+    ))
+}
+
+/// `step.t`, or the error if it is not finite.
+fn finite_t(step: &StepView) -> Result<f64> {
+    if step.t.is_finite() {
+        Ok(step.t)
+    } else {
+        Err(diverged(step.t, "t", step.t))
     }
 }
 
@@ -393,7 +435,11 @@ impl Rows {
 
 impl Recorder for Rows {
     fn record(&mut self, step: &StepView) -> Result<()> {
-        let row = self.probes.probes.iter().map(|p| step.value(p)).collect();
+        finite_t(step)?;
+        let mut memo = None;
+        let row = (0..self.probes.probes.len())
+            .map(|k| Ok(finite_reading(step, &self.probes, k, &mut memo)?.unwrap_or(f64::NAN)))
+            .collect::<Result<_>>()?;
         self.rows.push(row);
         Ok(())
     }
@@ -515,11 +561,12 @@ impl<W: Write> Recorder for CsvRecorder<W> {
     fn record(&mut self, step: &StepView) -> Result<()> {
         // The row goes straight after the rows still buffered.
         let line = &mut self.buf;
-        push_csv_f64(line, step.t);
+        push_csv_f64(line, finite_t(step)?);
         let mut memo = None;
-        for p in &self.probes.probes {
+        for k in 0..self.probes.probes.len() {
+            let v = finite_reading(step, &self.probes, k, &mut memo)?;
             line.push(b',');
-            push_csv_f64(line, step.value_with(p, &mut memo));
+            push_csv_f64(line, v.unwrap_or(f64::NAN));
         }
         line.push(b',');
         push_decimal(line, step.iterations);

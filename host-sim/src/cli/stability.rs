@@ -113,6 +113,16 @@ pub fn report(args: &Args) -> crate::Result<Report> {
     let p = args.controller.params(args.dt)?;
     let lp = Loop::new(&p, 0.0);
     let step = Step::new(&p, 0.0);
+    let max_dt = discrete::max_substep(&lp) * p.n_sub as f64;
+    if !(step.delta <= discrete::max_substep(&lp) && step.radius().is_finite()) {
+        return Err(crate::Error::invalid(
+            "--dt",
+            format!(
+                "must be at most {max_dt:e} s for this loop (n_sub = {}): beyond, one sub-step's amplification matrix overflows; got {:e}",
+                p.n_sub, args.dt
+            ),
+        ));
+    }
     let accurate = p.scheme == maglev_core::Scheme::Accurate;
     let (substep_eigenvalues, radius, critical) = if accurate {
         let (r, _) = gauss::interval_matrix(&p, 0.0);
