@@ -146,14 +146,23 @@ mod tests {
     #[test]
     fn a_parse_error_quotes_an_excerpt_not_a_whole_line() {
         let line = "x".repeat(10 << 20);
-        let e = Error::parse("scenario big.toml", format!("at line 1 | 1 | {line} | ^ expected `=`"));
+        let e = Error::parse(
+            "scenario big.toml",
+            format!("at line 1 | 1 | {line} | ^ expected `=`"),
+        );
         let m = e.to_string();
         assert!(m.len() < 2 * EXCERPT_MESSAGE, "{} bytes", m.len());
-        assert!(m.starts_with("scenario big.toml: at line 1 | 1 | xxx"), "{m}");
+        assert!(
+            m.starts_with("scenario big.toml: at line 1 | 1 | xxx"),
+            "{m}"
+        );
         assert!(m.ends_with("| ^ expected `=`"), "{m}");
         let words = "word ".repeat(1000);
         let m = excerpt(&words);
-        assert!(m.chars().count() <= EXCERPT_MESSAGE + 3 && m.contains(" … "), "{m}");
+        assert!(
+            m.chars().count() <= EXCERPT_MESSAGE + 3 && m.contains(" … "),
+            "{m}"
+        );
         assert_eq!(excerpt("short message"), "short message");
     }
 

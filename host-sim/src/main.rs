@@ -76,7 +76,10 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) if cli::stdout::is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("maglev: error: {}", one_line(e.chain().map(|c| c.to_string())));
+            eprintln!(
+                "maglev: error: {}",
+                one_line(e.chain().map(|c| c.to_string()))
+            );
             let code = e
                 .chain()
                 .find_map(|c| c.downcast_ref::<maglev_host_sim::Error>())
@@ -114,12 +117,14 @@ fn usage_error(e: clap::Error) -> ExitCode {
         e.exit();
     }
     let text = e.render().to_string();
-    let lines = text
-        .lines()
-        .map(str::trim)
-        .filter(|l| !l.is_empty())
-        .map(|l| l.strip_prefix("error: ").unwrap_or(l).to_string());
-    let line = lines.collect::<Vec<_>>().join("; ");
+    let mut line = String::new();
+    for l in text.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        // A line that announces a list runs on into it; others are joined by `; `.
+        if !line.is_empty() {
+            line.push_str(if line.ends_with(':') { " " } else { "; " });
+        }
+        line.push_str(l.strip_prefix("error: ").unwrap_or(l));
+    }
     eprintln!("maglev: error: {}", one_line(std::iter::once(line)));
     ExitCode::from(exit::ERROR)
 }

@@ -162,16 +162,17 @@ impl Staging {
         let mut active = interrupt::hold();
         let moved = self.target.exists();
         if moved {
-            std::fs::rename(&self.target, &self.old).map_err(|e| {
-                Error::io(&self.target, e)
-            })?;
+            std::fs::rename(&self.target, &self.old).map_err(|e| Error::io(&self.target, e))?;
             if let Err(e) = self.kind.may_replace(&self.old, &self.target) {
                 // Changed during the run: put it back as it is.
                 return Err(match std::fs::rename(&self.old, &self.target) {
                     Ok(()) => e,
                     Err(_) => Error::invalid(
                         format!("--out {}", self.target.display()),
-                        format!("changed during the run; it was moved aside to {} and kept", self.old.display()),
+                        format!(
+                            "changed during the run; it was moved aside to {} and kept",
+                            self.old.display()
+                        ),
                     ),
                 });
             }
@@ -370,10 +371,20 @@ mod tests {
         std::fs::create_dir(&out).unwrap();
         std::fs::write(out.join("notes.txt"), "notes").unwrap();
         let e = s.finish().unwrap_err().to_string();
-        assert!(e.contains("not a maglev output") && e.contains("refusing"), "{e}");
-        assert_eq!(std::fs::read_to_string(out.join("notes.txt")).unwrap(), "notes");
+        assert!(
+            e.contains("not a maglev output") && e.contains("refusing"),
+            "{e}"
+        );
+        assert_eq!(
+            std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+            "notes"
+        );
         let left: Vec<_> = std::fs::read_dir(&root).unwrap().collect();
-        assert_eq!(left.len(), 1, "the staging directory or the aside copy was left");
+        assert_eq!(
+            left.len(),
+            1,
+            "the staging directory or the aside copy was left"
+        );
         // Nor does a marked run's directory lose what was put at --out in its place.
         let s = Staging::new(&root.join("run")).unwrap();
         std::fs::create_dir(root.join("run")).unwrap();
@@ -400,13 +411,19 @@ mod tests {
         std::fs::create_dir(&lookalike).unwrap();
         std::fs::write(lookalike.join("data"), "").unwrap();
         let s = Staging::new(&out).unwrap();
-        assert!(!stale.exists(), "a dead process's staging directory was kept");
+        assert!(
+            !stale.exists(),
+            "a dead process's staging directory was kept"
+        );
         assert!(live.exists() && lookalike.exists());
         s.finish().unwrap();
         // A run killed between its two renames: the previous output is put back.
         std::fs::rename(&out, root.join(format!(".out.old-{pid}"))).unwrap();
         Staging::new(&out).unwrap();
-        assert!(out.join(MARKER).is_file(), "the previous output was not put back");
+        assert!(
+            out.join(MARKER).is_file(),
+            "the previous output was not put back"
+        );
     }
 
     #[test]

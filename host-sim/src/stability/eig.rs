@@ -357,7 +357,11 @@ mod tests {
     /// ended before the range check.
     #[test]
     fn an_extreme_matrix_is_an_error_not_a_hang() {
-        let a = DMatrix::from_fn(4, 4, |i, j| if i == j { 1e200 } else { 1.0 + (i + j) as f64 });
+        let a = DMatrix::from_fn(
+            4,
+            4,
+            |i, j| if i == j { 1e200 } else { 1.0 + (i + j) as f64 },
+        );
         assert!(eigenvalues(&a).is_err());
     }
 }
