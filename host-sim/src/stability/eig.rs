@@ -32,7 +32,7 @@ pub fn eigenvalues(a: &DMatrix<f64>) -> crate::Result<Vec<Complex>> {
             a.ncols()
         )));
     }
-    if let Some(v) = a.iter().find(|v| !(v.abs() <= MAX_ENTRY)) {
+    if let Some(v) = a.iter().find(|v| v.is_nan() || v.abs() > MAX_ENTRY) {
         return Err(crate::Error::numerical(format!(
             "a {n}×{n} state matrix holds the entry {v:e}, beyond ±{MAX_ENTRY:e} (a value of the case is too extreme for the linearised analysis)"
         )));
