@@ -688,9 +688,6 @@ mod tests {
             36787.41873257823,
             1e21,
             123456789012345680.0,
-            f64::NAN,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
         ];
         let n = values.len();
         let e = Extent {
@@ -734,12 +731,8 @@ mod tests {
             assert_eq!(cells.len(), n + 3, "{row}");
             assert_eq!(cells[0].parse::<f64>().unwrap().to_bits(), t.to_bits());
             for (v, c) in values.iter().zip(&cells[1..=n]) {
-                if v.is_finite() {
-                    let back: f64 = c.parse().unwrap_or_else(|_| panic!("{c:?}"));
-                    assert_eq!(back.to_bits(), v.to_bits(), "{v:e} written as {c:?}");
-                } else {
-                    assert_eq!(*c, "", "{v} is not applicable: an empty cell");
-                }
+                let back: f64 = c.parse().unwrap_or_else(|_| panic!("{c:?}"));
+                assert_eq!(back.to_bits(), v.to_bits(), "{v:e} written as {c:?}");
             }
             assert_eq!(cells[n + 1], "17");
             assert_eq!(cells[n + 2], collision);
@@ -749,6 +742,56 @@ mod tests {
         assert_eq!(cells[9], "4.360489000582685e-17");
         assert_eq!(cells[4], "-0.0");
         assert!(text.ends_with("0\n") && !text.contains('\r'));
+    }
+
+    /// A quantity that does not apply is an empty cell; one that applies and is not finite
+    /// stops the recording with an error naming the time and the probe (it was an empty
+    /// cell too, and a diverged run's peaks read 0).
+    #[test]
+    fn not_applicable_is_empty_and_diverged_is_an_error() {
+        let e = Extent {
+            spans: 1,
+            wheels: 1,
+            cars: 0,
+            magnets: false,
+        };
+        let names = vec!["pier1.base.z".to_string(), "wheel1.force_z".to_string()];
+        let g = crate::setup::RigidGuideway::new(1e-3);
+        let points = [(0.0, 0.0, 0.0)];
+        for v in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1.5] {
+            let forces = [v];
+            let step = StepView {
+                t: 0.25,
+                guideway: &g,
+                midspans: &[],
+                wheels: Wheels::Forces {
+                    points: &points,
+                    forces: &forces,
+                },
+                iterations: 1,
+                collision: false,
+            };
+            let probes = Probes::new(Some(&names), &e).unwrap();
+            let mut csv = CsvRecorder::new(probes.clone(), Vec::new()).unwrap();
+            let mut rows = Rows::new(probes);
+            let (a, b) = (csv.record(&step), rows.record(&step));
+            if v.is_finite() {
+                a.unwrap();
+                b.unwrap();
+                let text = String::from_utf8(csv.finish().unwrap()).unwrap();
+                assert!(text.ends_with("\n0.25,,1.5,1,0\n"), "{text}");
+            } else {
+                for r in [a, b] {
+                    let m = r.unwrap_err().to_string();
+                    assert!(
+                        m.starts_with(&format!(
+                            "the run diverged at t = 0.25 s: wheel1.force_z = {v}"
+                        )),
+                        "{m}"
+                    );
+                }
+            }
+        }
     }
 
     /// A sink that keeps every write's size.
