@@ -1,9 +1,10 @@
 //! The library's one error type.
 //!
-//! Why one type: every failure a user can meet ends as one line on stderr and exit status 2
-//! (`main`), so the library only has to say *what* went wrong, in words that name the key and
-//! the limit. The variants separate what a caller may want to tell apart (bad input, files,
-//! numerics, the firmware link); the message is the `Display`. `main` wraps it in `anyhow`.
+//! Why one type: every failure a user can meet ends as one line on stderr and an exit status
+//! ([`Error::exit_code`]: the one place the statuses are decided), so the library only has to
+//! say *what* went wrong, in words that name the key and the limit. The variants separate
+//! what a caller may want to tell apart (bad input, files, numerics, the firmware link, a
+//! result that fails a check); the message is the `Display`. `main` wraps it in `anyhow`.
 
 use std::path::PathBuf;
 
@@ -31,6 +32,27 @@ pub enum Error {
     /// The firmware link of a hardware-in-the-loop run failed (spawn, protocol, timeout).
     #[error("firmware: {0}")]
     Firmware(String),
+    /// The command ran to its end and wrote its outputs, but the result fails a check of the
+    /// physics or the numerics: a validation criterion, a statement of the paper, steps whose
+    /// coupling iteration did not converge. Exit status 1.
+    #[error("{0}")]
+    CheckFailed(String),
+    /// `run --strict` refused a run that completed (its outputs are written): a collision or a
+    /// gap outside its bounds. Exit status 3.
+    #[error("strict: {0}")]
+    Strict(String),
+}
+
+/// The exit statuses of `maglev` (README "Exit codes", `maglev --help`).
+pub mod exit {
+    /// Done.
+    pub const OK: u8 = 0;
+    /// The outputs are written, but a check of the result failed ([`super::Error::CheckFailed`]).
+    pub const CHECK_FAILED: u8 = 1;
+    /// Bad input or usage, or a failure that left no result (I/O, numerics, firmware).
+    pub const ERROR: u8 = 2;
+    /// `run --strict` refused the run ([`super::Error::Strict`]).
+    pub const STRICT: u8 = 3;
 }
 
 impl Error {
@@ -50,11 +72,21 @@ impl Error {
         }
     }
 
-    /// A text that does not parse.
+    /// A text that does not parse. The parser's message is cut to an excerpt
+    /// ([`excerpt`]): it may quote the offending line, which can be megabytes long.
     pub fn parse(what: impl Into<String>, message: impl std::fmt::Display) -> Self {
         Error::Parse {
             what: what.into(),
-            message: message.to_string(),
+            message: excerpt(&message.to_string()),
+        }
+    }
+
+    /// The exit status for this error ([`exit`]).
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Error::CheckFailed(_) => exit::CHECK_FAILED,
+            Error::Strict(_) => exit::STRICT,
+            _ => exit::ERROR,
         }
     }
 
@@ -62,6 +94,31 @@ impl Error {
     pub fn numerical(message: impl Into<String>) -> Self {
         Error::Numerical(message.into())
     }
+}
+
+/// The longest word of a parser's message kept whole, and the longest message (characters).
+pub const EXCERPT_WORD: usize = 60;
+pub const EXCERPT_MESSAGE: usize = 600;
+
+/// `message` with each word longer than [`EXCERPT_WORD`] characters cut to that length and
+/// `…`, and, should it still be longer than [`EXCERPT_MESSAGE`], its middle left out: the
+/// parser's words and the position stay, a quoted 10 MB line does not.
+pub fn excerpt(message: &str) -> String {
+    let words: Vec<String> = message
+        .split(' ')
+        .map(|w| match w.char_indices().nth(EXCERPT_WORD) {
+            Some((i, _)) => format!("{}…", &w[..i]),
+            None => w.to_string(),
+        })
+        .collect();
+    let chars: Vec<char> = words.join(" ").chars().collect();
+    let half = EXCERPT_MESSAGE / 2;
+    if chars.len() <= EXCERPT_MESSAGE {
+        return chars.into_iter().collect();
+    }
+    let head: String = chars[..half].iter().collect();
+    let tail: String = chars[chars.len() - half..].iter().collect();
+    format!("{head} … {tail}")
 }
 
 /// `Result` with the library's [`Error`].
@@ -84,5 +141,42 @@ mod tests {
             Error::Firmware("timed out".into()).to_string(),
             "firmware: timed out"
         );
+    }
+
+    #[test]
+    fn a_parse_error_quotes_an_excerpt_not_a_whole_line() {
+        let line = "x".repeat(10 << 20);
+        let e = Error::parse(
+            "scenario big.toml",
+            format!("at line 1 | 1 | {line} | ^ expected `=`"),
+        );
+        let m = e.to_string();
+        assert!(m.len() < 2 * EXCERPT_MESSAGE, "{} bytes", m.len());
+        assert!(
+            m.starts_with("scenario big.toml: at line 1 | 1 | xxx"),
+            "{m}"
+        );
+        assert!(m.ends_with("| ^ expected `=`"), "{m}");
+        let words = "word ".repeat(1000);
+        let m = excerpt(&words);
+        assert!(
+            m.chars().count() <= EXCERPT_MESSAGE + 3 && m.contains(" … "),
+            "{m}"
+        );
+        assert_eq!(excerpt("short message"), "short message");
+    }
+
+    #[test]
+    fn exit_codes_tell_a_failed_check_and_strict_from_an_error() {
+        let codes: Vec<u8> = [
+            Error::CheckFailed("validation failed".into()),
+            Error::Strict("a collision".into()),
+            Error::invalid("k", "bad"),
+            Error::numerical("diverged"),
+        ]
+        .iter()
+        .map(Error::exit_code)
+        .collect();
+        assert_eq!(codes, [1, 3, 2, 2]);
     }
 }

@@ -11,6 +11,7 @@ pub mod error;
 pub mod fe;
 pub mod guideway;
 pub mod hil;
+pub mod input;
 pub mod modal;
 pub mod newmark;
 pub mod output;

@@ -2,13 +2,24 @@
 
 use clap::{Parser, Subcommand};
 use maglev_host_sim::cli;
+use maglev_host_sim::error::exit;
 use std::process::ExitCode;
+
+/// The exit statuses, as `maglev --help` shows them (README "Exit codes").
+const EXIT_CODES: &str = "Exit codes:
+  0  done (also when the reader of stdout went away, e.g. `| head`)
+  1  the outputs are written, but a check of the result failed: validate FAIL, or a run
+     (run, hil) with steps that did not converge to run.tolerance_m
+  2  bad input or usage, or a failure that left no result (file, numerics, firmware);
+     one line on stderr naming the key and the limit
+  3  run --strict: the run collided or a gap left (0, 2·h0) (the outputs are written)";
 
 #[derive(Parser)]
 #[command(
     name = "maglev",
     version,
-    about = "EMS maglev levitation control and guideway vibration (Ju, Ho & Leong 2012)"
+    about = "EMS maglev levitation control and guideway vibration (Ju, Ho & Leong 2012)",
+    after_help = EXIT_CODES
 )]
 struct Cli {
     #[command(subcommand)]
@@ -42,17 +53,17 @@ enum Command {
     Report(cli::report::Args),
 }
 
-/// Exit status: 0 done, 2 an error (one line on stderr), 3 `run --strict` refused the run.
+/// Exit status: [`EXIT_CODES`], decided by [`maglev_host_sim::Error::exit_code`].
 fn main() -> ExitCode {
-    let args = Cli::parse();
+    maglev_host_sim::output::staging::interrupt::install();
+    let args = match Cli::try_parse() {
+        Ok(args) => args,
+        Err(e) => return usage_error(e),
+    };
     let result: anyhow::Result<()> = match args.command {
         Command::Control(a) => cli::control::run(a),
         Command::Irregularity(a) => cli::irregularity::run(a).map_err(anyhow::Error::from),
-        Command::Run(a) => match cli::run::run(a) {
-            Ok(true) => Ok(()),
-            Ok(false) => return ExitCode::from(3),
-            Err(e) => Err(e),
-        },
+        Command::Run(a) => cli::run::run(a),
         Command::Modes(a) => cli::modes::run(a).map_err(anyhow::Error::from),
         Command::Validate(a) => cli::validate::run_cmd(a),
         Command::Stability(a) => cli::stability::run(a).map_err(anyhow::Error::from),
@@ -63,21 +74,57 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if cli::stdout::is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
-            // One line: the causes joined, as the library words them (a cause the message
-            // already ends with, such as an I/O error's, only once).
-            let mut joined = String::new();
-            for cause in e.chain().map(|c| c.to_string()) {
-                if !joined.ends_with(&cause) {
-                    if !joined.is_empty() {
-                        joined.push_str(": ");
-                    }
-                    joined.push_str(&cause);
-                }
-            }
-            let line = joined.split_whitespace().collect::<Vec<_>>().join(" ");
-            eprintln!("maglev: error: {line}");
-            ExitCode::from(2)
+            eprintln!(
+                "maglev: error: {}",
+                one_line(e.chain().map(|c| c.to_string()))
+            );
+            let code = e
+                .chain()
+                .find_map(|c| c.downcast_ref::<maglev_host_sim::Error>())
+                .map_or(exit::ERROR, maglev_host_sim::Error::exit_code);
+            ExitCode::from(code)
         }
     }
+}
+
+/// One line of `causes` joined, as the library words them (a cause the message already ends
+/// with, such as an I/O error's, only once).
+fn one_line(causes: impl Iterator<Item = String>) -> String {
+    let mut joined = String::new();
+    for cause in causes {
+        if !joined.ends_with(&cause) {
+            if !joined.is_empty() {
+                joined.push_str(": ");
+            }
+            joined.push_str(&cause);
+        }
+    }
+    joined.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// Help and version as clap prints them; any other parse error as one line with the prefix
+/// every error has (clap's lines, its usage and tip included, joined by `; `), exit 2.
+fn usage_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        e.exit();
+    }
+    let text = e.render().to_string();
+    let mut line = String::new();
+    for l in text.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        // A line that announces a list runs on into it; others are joined by `; `.
+        if !line.is_empty() {
+            line.push_str(if line.ends_with(':') { " " } else { "; " });
+        }
+        line.push_str(l.strip_prefix("error: ").unwrap_or(l));
+    }
+    eprintln!("maglev: error: {}", one_line(std::iter::once(line)));
+    ExitCode::from(exit::ERROR)
 }

@@ -1,6 +1,7 @@
 //! Run outputs: `response.csv`, `summary.json`, `profile.csv` and SVG plots of the histories
 //! (drawn by [`crate::plot`]).
 
+pub mod owned;
 pub mod staging;
 
 use crate::case::Case;

@@ -304,7 +304,17 @@ impl StepView<'_> {
     /// As [`Self::value`], keeping in `memo` the section of the last midspan read, so a
     /// span's three midspan columns query the guideway once (a row's probes in order).
     pub fn value_with(&self, p: &Probe, memo: &mut Option<(usize, SectionMotion)>) -> f64 {
-        match *p {
+        self.reading_with(p, memo).unwrap_or(f64::NAN)
+    }
+
+    /// The value of `p`, `None` where it does not apply (an empty cell) — kept apart from a
+    /// value that applies and is not finite (the run diverged, [`finite_reading`]).
+    pub fn reading_with(
+        &self,
+        p: &Probe,
+        memo: &mut Option<(usize, SectionMotion)>,
+    ) -> Option<f64> {
+        Some(match *p {
             Probe::Midspan { span, q } => {
                 let m = match *memo {
                     Some((s, m)) if s == span => m,
@@ -345,7 +355,7 @@ impl StepView<'_> {
                     Node::Contact(i) => match q {
                         WheelQ::Z => u[contact_dofs[i]],
                         WheelQ::ForceZ => contact_forces[i],
-                        WheelQ::Y | WheelQ::GapY | WheelQ::GapZ => f64::NAN,
+                        WheelQ::Y | WheelQ::GapY | WheelQ::GapZ => return None,
                     },
                 },
                 Wheels::Forces { points, forces } => {
@@ -354,7 +364,7 @@ impl StepView<'_> {
                         WheelQ::Y => self.guideway.motion_at(x, ey, ez).y,
                         WheelQ::Z => self.guideway.motion_at(x, ey, ez).z,
                         WheelQ::ForceZ => forces[wheel],
-                        WheelQ::GapY | WheelQ::GapZ => f64::NAN,
+                        WheelQ::GapY | WheelQ::GapZ => return None,
                     }
                 }
             },
@@ -363,16 +373,48 @@ impl StepView<'_> {
                     BodyQ::Z => u[body_z[car]],
                     BodyQ::Az => a[body_z[car]],
                 },
-                Wheels::Forces { .. } => f64::NAN,
+                Wheels::Forces { .. } => return None,
             },
             Probe::Pier { pier, q } => match self.guideway.pier_base(pier + 1) {
                 Some(b) => match q {
                     PierQ::Z => b.z,
                     PierQ::Az => b.az,
                 },
-                None => f64::NAN,
+                None => return None,
             },
-        }
+        })
+    }
+}
+
+/// Probe `k` of `probes` at `step` for a row: `None` where it does not apply, the value
+/// where it is finite, and an error naming the time and the probe where it is not — the one
+/// place a diverged run is told from a quantity that does not apply (both were an empty
+/// cell, and the peaks of a diverged run read 0). Every recorder goes through it.
+pub fn finite_reading(
+    step: &StepView,
+    probes: &Probes,
+    k: usize,
+    memo: &mut Option<(usize, SectionMotion)>,
+) -> Result<Option<f64>> {
+    match step.reading_with(&probes.probes[k], memo) {
+        Some(v) if !v.is_finite() => Err(diverged(step.t, &probes.names[k], v)),
+        r => Ok(r),
+    }
+}
+
+/// The error of a run whose `quantity` became `v` (not finite) at time `t`.
+fn diverged(t: f64, quantity: &str, v: f64) -> Error {
+    Error::numerical(format!(
+        "the run diverged at t = {t} s: {quantity} = {v} (not finite); no outputs are written (a value of the case may be too extreme, or run.dt_s too long)"
+    ))
+}
+
+/// `step.t`, or the error if it is not finite.
+fn finite_t(step: &StepView) -> Result<f64> {
+    if step.t.is_finite() {
+        Ok(step.t)
+    } else {
+        Err(diverged(step.t, "t", step.t))
     }
 }
 
@@ -410,7 +452,11 @@ impl Rows {
 
 impl Recorder for Rows {
     fn record(&mut self, step: &StepView) -> Result<()> {
-        let row = self.probes.probes.iter().map(|p| step.value(p)).collect();
+        finite_t(step)?;
+        let mut memo = None;
+        let row = (0..self.probes.probes.len())
+            .map(|k| Ok(finite_reading(step, &self.probes, k, &mut memo)?.unwrap_or(f64::NAN)))
+            .collect::<Result<_>>()?;
         self.t.push(step.t);
         self.iterations.push(step.iterations);
         self.rows.push(row);
@@ -544,11 +590,12 @@ impl<W: Write> Recorder for CsvRecorder<W> {
     fn record(&mut self, step: &StepView) -> Result<()> {
         // The row goes straight after the rows still buffered.
         let line = &mut self.buf;
-        push_csv_f64(line, step.t);
+        push_csv_f64(line, finite_t(step)?);
         let mut memo = None;
-        for p in &self.probes.probes {
+        for k in 0..self.probes.probes.len() {
+            let v = finite_reading(step, &self.probes, k, &mut memo)?;
             line.push(b',');
-            push_csv_f64(line, step.value_with(p, &mut memo));
+            push_csv_f64(line, v.unwrap_or(f64::NAN));
         }
         line.push(b',');
         push_decimal(line, step.iterations);
@@ -670,9 +717,6 @@ mod tests {
             36787.41873257823,
             1e21,
             123456789012345680.0,
-            f64::NAN,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
         ];
         let n = values.len();
         let e = Extent {
@@ -716,12 +760,8 @@ mod tests {
             assert_eq!(cells.len(), n + 3, "{row}");
             assert_eq!(cells[0].parse::<f64>().unwrap().to_bits(), t.to_bits());
             for (v, c) in values.iter().zip(&cells[1..=n]) {
-                if v.is_finite() {
-                    let back: f64 = c.parse().unwrap_or_else(|_| panic!("{c:?}"));
-                    assert_eq!(back.to_bits(), v.to_bits(), "{v:e} written as {c:?}");
-                } else {
-                    assert_eq!(*c, "", "{v} is not applicable: an empty cell");
-                }
+                let back: f64 = c.parse().unwrap_or_else(|_| panic!("{c:?}"));
+                assert_eq!(back.to_bits(), v.to_bits(), "{v:e} written as {c:?}");
             }
             assert_eq!(cells[n + 1], "17");
             assert_eq!(cells[n + 2], collision);
@@ -731,6 +771,56 @@ mod tests {
         assert_eq!(cells[9], "4.360489000582685e-17");
         assert_eq!(cells[4], "-0.0");
         assert!(text.ends_with("0\n") && !text.contains('\r'));
+    }
+
+    /// A quantity that does not apply is an empty cell; one that applies and is not finite
+    /// stops the recording with an error naming the time and the probe (it was an empty
+    /// cell too, and a diverged run's peaks read 0).
+    #[test]
+    fn not_applicable_is_empty_and_diverged_is_an_error() {
+        let e = Extent {
+            spans: 1,
+            wheels: 1,
+            cars: 0,
+            magnets: false,
+        };
+        let names = vec!["pier1.base.z".to_string(), "wheel1.force_z".to_string()];
+        let g = crate::setup::RigidGuideway::new(1e-3);
+        let points = [(0.0, 0.0, 0.0)];
+        for v in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1.5] {
+            let forces = [v];
+            let step = StepView {
+                t: 0.25,
+                guideway: &g,
+                midspans: &[],
+                wheels: Wheels::Forces {
+                    points: &points,
+                    forces: &forces,
+                },
+                iterations: 1,
+                collision: false,
+            };
+            let probes = Probes::new(Some(&names), &e).unwrap();
+            let mut csv = CsvRecorder::new(probes.clone(), Vec::new()).unwrap();
+            let mut rows = Rows::new(probes);
+            let (a, b) = (csv.record(&step), rows.record(&step));
+            if v.is_finite() {
+                a.unwrap();
+                b.unwrap();
+                let text = String::from_utf8(csv.finish().unwrap()).unwrap();
+                assert!(text.ends_with("\n0.25,,1.5,1,0\n"), "{text}");
+            } else {
+                for r in [a, b] {
+                    let m = r.unwrap_err().to_string();
+                    assert!(
+                        m.starts_with(&format!(
+                            "the run diverged at t = 0.25 s: wheel1.force_z = {v}"
+                        )),
+                        "{m}"
+                    );
+                }
+            }
+        }
     }
 
     /// A sink that keeps every write's size.

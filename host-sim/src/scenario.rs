@@ -306,7 +306,7 @@ pub enum Model {
 pub fn load(name_or_path: &str, sets: &[String]) -> Result<Scenario> {
     let text = match BUNDLED.iter().find(|(n, _)| *n == name_or_path) {
         Some((_, t)) => t.to_string(),
-        None => std::fs::read_to_string(name_or_path).map_err(|e| {
+        None => crate::input::read_text(std::path::Path::new(name_or_path)).map_err(|e| {
             let names: Vec<&str> = BUNDLED.iter().map(|(n, _)| *n).collect();
             Error::invalid(
                 "scenario",

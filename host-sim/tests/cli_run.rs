@@ -135,7 +135,8 @@ fn validate_fails_under_the_ems_geometry() {
         "--out",
         d.to_str().unwrap(),
     ]);
-    assert!(!o.status.success());
+    // A failed check with its outputs written: exit 1, not a usage error's 2.
+    assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("validation failed"), "{err}");
     let v: serde_json::Value =

@@ -2,9 +2,8 @@
 //! docs/bands.md) as CSV `centre_hz,level_db` after a `#` line stating the reference, the
 //! quantities and the method.
 
-use std::fs::File;
-use std::io::{BufReader, BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::io::BufReader;
+use std::path::PathBuf;
 
 use crate::bands::{self, Averaging, Level, Quantity, Settings};
 use crate::Error;
@@ -79,9 +78,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         }
     }
     let s = settings(&a);
-    let file = File::open(&a.input)
-        .map_err(|e| Error::io(&a.input, e))
-        .context("--input")?;
+    let file = crate::input::open(&a.input).context("--input")?;
     let h = bands::read_history(BufReader::new(file), &a.column)
         .map_err(|e| Error::parse(format!("--input {}", a.input.display()), e))?;
     let levels = bands::analyse(&h.values, h.dt, &s).map_err(|e| match e {
@@ -89,18 +86,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         _ => Error::invalid(format!("--input {}", a.input.display()), e.to_string()),
     })?;
     let header = bands::header_line(&a.column, h.values.len(), h.dt, &s);
-    let write = |w: &mut dyn Write, to: &Path| {
-        bands::write_levels(w, &header, &levels)
-            .map_err(|e| Error::io(to, std::io::Error::other(e)))
-    };
+    // Made in memory (a few kB), then written where it goes: a failed write keeps its
+    // kind (a reader gone from stdout ends quietly, crate::cli::stdout).
+    let mut text = Vec::new();
+    bands::write_levels(&mut text, &header, &levels)
+        .map_err(|e| Error::numerical(format!("internal: {e}")))?;
     match &a.out {
-        Some(path) => {
-            let f = File::create(path).map_err(|e| Error::io(path, e))?;
-            Ok(write(&mut BufWriter::new(f), path)?)
-        }
-        None => Ok(write(
-            &mut BufWriter::new(std::io::stdout().lock()),
-            Path::new("stdout"),
-        )?),
+        Some(path) => std::fs::write(path, &text).map_err(|e| Error::io(path, e))?,
+        None => crate::cli::stdout::print(&String::from_utf8_lossy(&text))?,
     }
+    Ok(())
 }

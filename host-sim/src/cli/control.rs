@@ -6,7 +6,6 @@ use crate::control::{parse_trace, run_trace_as, to_csv, Row, ScalarKind};
 use crate::{Error, Result};
 use anyhow::Context as _;
 use maglev_core::{Interpolation, Params, Scheme, Status};
-use std::io::Write as _;
 use std::path::PathBuf;
 
 /// Controller parameters shared by every subcommand that runs the law.
@@ -107,16 +106,10 @@ fn report_events(rows: &[Row]) {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let name = args.trace.display().to_string();
-    let text = std::fs::read_to_string(&args.trace)
-        .map_err(|e| Error::io(&args.trace, e))
-        .context("cannot read trace")?;
+    let text = crate::input::read_text(&args.trace).context("cannot read trace")?;
     let trace = parse_trace(&text, &name)?;
     let params = args.controller.params(trace.dt)?;
     let rows = run_trace_as(args.scalar, &params, &trace)?;
     report_events(&rows);
-    std::io::stdout()
-        .lock()
-        .write_all(to_csv(&rows).as_bytes())
-        .map_err(|e| Error::io("stdout", e))
-        .context("cannot write output")
+    Ok(crate::cli::stdout::print(&to_csv(&rows))?)
 }

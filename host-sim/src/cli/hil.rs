@@ -374,20 +374,27 @@ fn run_inner(args: Args) -> Result<()> {
     if let Some(t) = first_fault_s {
         eprintln!("maglev: firmware fault at t = {t} s (see events.csv)");
     }
+    crate::cli::stdout::print(&compare_tables(&summary))?;
+    crate::cli::run::check_converged(&outcome.outcome)
+}
+
+/// The `--compare` tables printed on stdout (empty without `--compare`).
+fn compare_tables(summary: &HilSummary) -> String {
     let tables = [
         ("whole run", &summary.compare),
         ("before the first fault", &summary.compare_before_fault),
     ];
+    let mut text = String::new();
     for (label, c) in tables {
         let Some(c) = c else { continue };
-        println!("difference to the ideal run, {label} (max |HIL − ideal|):");
+        text += &format!("difference to the ideal run, {label} (max |HIL − ideal|):\n");
         for (name, d) in [
             ("midspan_z (m)", c.midspan_z),
             ("wheel1_gap_z (m)", c.wheel1_gap_z),
             ("wheel1_force_z (N)", c.wheel1_force_z),
         ] {
-            println!(
-                "  {name:20} {:.4e} at t = {:.4} s  ({:.2} % of the ideal peak {:.4e})",
+            text += &format!(
+                "  {name:20} {:.4e} at t = {:.4} s  ({:.2} % of the ideal peak {:.4e})\n",
                 d.max_abs,
                 d.at_t,
                 100.0 * d.relative,
@@ -395,5 +402,5 @@ fn run_inner(args: Args) -> Result<()> {
             );
         }
     }
-    Ok(())
+    text
 }

@@ -7,7 +7,7 @@
 //! the uniform grid with a complex rotation per term and sample, re-anchored exactly (see
 //! there for the accuracy).
 
-use std::io::{BufWriter, Write};
+use std::io::Write;
 
 use crate::profile::sweep;
 use crate::{Error, Result};
@@ -132,9 +132,8 @@ pub fn run(a: Args) -> Result<()> {
     g.rebuild(&params, direction, a.seed, 0.0)
         .map_err(|e| Error::invalid("irregularity parameters", e.to_string()))?;
     let prec = decimals(a.dx);
-    let stdout = std::io::stdout();
-    let mut w = BufWriter::with_capacity(1 << 16, stdout.lock());
-    let io = |e: std::io::Error| Error::io("stdout", e);
+    let mut w = crate::cli::stdout::writer();
+    let io = crate::cli::stdout::error;
     writeln!(w, "x,r").map_err(io)?;
     sweep(&g, a.dx, count, |_, x, r| writeln!(w, "{x:.prec$},{r:e}")).map_err(io)?;
     w.flush().map_err(io)

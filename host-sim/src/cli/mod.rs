@@ -10,6 +10,7 @@ pub mod progress;
 pub mod report;
 pub mod run;
 pub mod stability;
+pub mod stdout;
 pub mod sweep;
 pub mod validate;
 

@@ -187,6 +187,5 @@ fn render_rows(format: Format, rows: &[Row]) -> Result<String> {
 
 /// Run the subcommand.
 pub fn run(args: Args) -> Result<()> {
-    print!("{}", render(&args)?);
-    Ok(())
+    crate::cli::stdout::print(&render(&args)?)
 }

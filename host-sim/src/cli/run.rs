@@ -6,6 +6,7 @@ use crate::cli::progress::Progress;
 use crate::output::{gap_ranges, response_recorder, write_run, Columns, Staging, Summary};
 use crate::setup::{simulate, Controllers};
 use crate::simulation::Outcome;
+use crate::Error;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -49,14 +50,21 @@ pub fn strict_violation(outcome: &Outcome, h0: f64) -> Option<String> {
         })
 }
 
-/// Warns on stderr about unconverged steps and collisions.
-pub fn warn(outcome: &Outcome) {
-    if outcome.unconverged_steps > 0 {
-        eprintln!(
-            "maglev: warning: {} step(s) hit max_iterations without converging",
-            outcome.unconverged_steps
-        );
+/// A run with steps whose coupling iteration hit `run.max_iterations` without converging
+/// fails its check ([`Error::CheckFailed`], exit 1): it ran to its end and its outputs are
+/// written, but those steps are not within `run.tolerance_m`, so the result is not the one
+/// asked for (not a bad input: the same case may converge at a smaller `run.dt_s`).
+pub fn check_converged(outcome: &Outcome) -> crate::Result<()> {
+    match outcome.unconverged_steps {
+        0 => Ok(()),
+        n => Err(Error::CheckFailed(format!(
+            "{n} step(s) hit run.max_iterations without converging to run.tolerance_m; the outputs are written, but those steps are not within the tolerance"
+        ))),
     }
+}
+
+/// Warns on stderr about lifted wheels and collisions.
+pub fn warn(outcome: &Outcome) {
     if outcome.contact_loss_steps > 0 {
         eprintln!(
             "maglev: warning: {} step(s) in which some wheel lifted off the rail (its contact force held at zero)",
@@ -72,9 +80,9 @@ pub fn warn(outcome: &Outcome) {
     }
 }
 
-/// Runs the command. `Ok(false)`: `--strict` and the run collided or left its gap bounds
-/// (the outputs are written; the caller exits 3).
-pub fn run(args: Args) -> anyhow::Result<bool> {
+/// Runs the command. Once the outputs are written: [`Error::Strict`] when `--strict` and the
+/// run collided or left its gap bounds (exit 3), else [`check_converged`].
+pub fn run(args: Args) -> anyhow::Result<()> {
     let case = Case::load(&args.scenario, &args.sets)?;
     let out = Staging::new(&args.out)?;
     let mut rec = response_recorder(&out, case.probes.clone())?;
@@ -97,9 +105,8 @@ pub fn run(args: Args) -> anyhow::Result<bool> {
     );
     if args.strict {
         if let Some(v) = strict_violation(&outcome, case.h0()) {
-            eprintln!("maglev: strict: {v}");
-            return Ok(false);
+            return Err(Error::Strict(v).into());
         }
     }
-    Ok(true)
+    Ok(check_converged(&outcome)?)
 }

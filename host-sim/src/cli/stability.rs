@@ -5,6 +5,7 @@
 //! The numbers come from `crate::stability`; this file only parses and prints.
 
 use super::control::ControllerArgs;
+use crate::cli::stdout::print;
 use crate::stability::discrete::{self, Step};
 use crate::stability::gap_loop::GapLoopPlant;
 use crate::stability::gauss;
@@ -112,6 +113,16 @@ pub fn report(args: &Args) -> crate::Result<Report> {
     let p = args.controller.params(args.dt)?;
     let lp = Loop::new(&p, 0.0);
     let step = Step::new(&p, 0.0);
+    let max_dt = discrete::max_substep(&lp) * p.n_sub as f64;
+    if !(step.delta <= discrete::max_substep(&lp) && step.radius().is_finite()) {
+        return Err(crate::Error::invalid(
+            "--dt",
+            format!(
+                "must be at most {max_dt:e} s for this loop (n_sub = {}): beyond, one sub-step's amplification matrix overflows; got {:e}",
+                p.n_sub, args.dt
+            ),
+        ));
+    }
     let accurate = p.scheme == maglev_core::Scheme::Accurate;
     let (substep_eigenvalues, radius, critical) = if accurate {
         let (r, _) = gauss::interval_matrix(&p, 0.0);
@@ -216,11 +227,7 @@ pub fn table(r: &Report) -> String {
 
 pub fn run(args: Args) -> crate::Result<()> {
     if let Some(Study::Numerics) = args.study {
-        print!(
-            "{}",
-            crate::stability::numerics::study(args.ref_nsub.max(1))?
-        );
-        return Ok(());
+        return print(&crate::stability::numerics::study(args.ref_nsub.max(1))?);
     }
     if let Some(name) = &args.scenario {
         let r = scenario_report(name, &args.sets)?;
@@ -232,8 +239,7 @@ pub fn run(args: Args) -> crate::Result<()> {
             }
             Format::Table => scenario_table(&r),
         };
-        print!("{text}");
-        return Ok(());
+        return print(&text);
     }
     let r = report(&args)?;
     let text = match args.format {
@@ -243,8 +249,7 @@ pub fn run(args: Args) -> crate::Result<()> {
         }
         Format::Table => table(&r),
     };
-    print!("{text}");
-    Ok(())
+    print(&text)
 }
 
 /// The human-readable scenario table.

@@ -3,7 +3,7 @@
 //! non-zero when a criterion fails.
 
 use crate::cli::progress::Progress;
-use crate::output::write_atomic;
+use crate::output::owned;
 use crate::validation::{validate, RUNS};
 use crate::Error;
 use std::path::PathBuf;
@@ -16,7 +16,8 @@ pub struct Args {
     pub report: String,
     /// Output directory for the report, validation.json and the figures. Unlike `run`,
     /// validate writes only its own files into it and leaves the rest alone (so it can be
-    /// docs/); nothing is written unless every case has run.
+    /// docs/): a new or empty directory, or one whose .maglev-validation lists the files it
+    /// replaces; nothing is written unless every case has run.
     #[arg(long, default_value = "validation")]
     pub out: PathBuf,
     /// Controller scheme of every run, FE and modal reference alike (`controller.scheme`).
@@ -31,22 +32,20 @@ pub struct Args {
 
 pub fn run_cmd(args: Args) -> anyhow::Result<()> {
     crate::validation::check_sets(&args.sets)?;
+    owned::check(&args.out, &[&args.report, "validation.json"])?;
     let mut bar = Progress::steps("validate", RUNS);
     let out = validate(&args.sets, args.scheme, |what| bar.step(what))?;
     drop(bar);
     // Everything is in memory now: nothing is created before the validation has run, and
     // each file is written beside its place and renamed into it.
-    std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
-    let write = |name: &str, text: &str| write_atomic(&args.out.join(name), text.as_bytes());
-    for (name, svg) in &out.figures {
-        write(name, svg)?;
-    }
-    write(&args.report, &out.report)?;
     let v = &out.validation;
-    write(
-        "validation.json",
-        &(serde_json::to_string_pretty(v)? + "\n"),
-    )?;
+    let mut files = out.figures.clone();
+    files.push((args.report.clone(), out.report.clone()));
+    files.push((
+        "validation.json".to_string(),
+        serde_json::to_string_pretty(v)? + "\n",
+    ));
+    owned::write(&args.out, &files)?;
     eprintln!(
         "maglev: validate: {} in {:.0} s; wrote {}",
         if v.pass { "PASS" } else { "FAIL" },
@@ -54,10 +53,11 @@ pub fn run_cmd(args: Args) -> anyhow::Result<()> {
         args.out.display()
     );
     if !v.pass {
-        anyhow::bail!(
+        return Err(Error::CheckFailed(format!(
             "validation failed: see {}",
             args.out.join(&args.report).display()
-        );
+        ))
+        .into());
     }
     Ok(())
 }

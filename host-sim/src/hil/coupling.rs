@@ -9,7 +9,7 @@
 //! levitation (Z gap), guidance left (`h0 + d`), guidance right (`h0 − d`), as in
 //! `maglev_core::guidance`.
 
-use super::board::{force, Sensors};
+use super::board::{force, SensorFault, Sensors};
 use super::link::Link;
 use super::HilSettings;
 use crate::simulation::{magnet_gaps, Magnets, Settings, WheelGaps};
@@ -52,6 +52,22 @@ pub struct FirmwareMagnets<'a> {
     pub events: Vec<EventRecord>,
 }
 
+/// Every `--set fault` names one of the train's `count` channels (three a wheel:
+/// levitation, guidance left, guidance right); one beyond would be ignored in silence.
+fn check_fault_channels(faults: &[SensorFault], count: usize) -> Result<()> {
+    match faults.iter().find(|f| f.channel >= count) {
+        Some(f) => Err(Error::invalid(
+            "--set fault",
+            format!(
+                "channel {} does not exist: this train has {count} channels (0..={}, three a wheel)",
+                f.channel,
+                count.saturating_sub(1)
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 impl<'a> FirmwareMagnets<'a> {
     /// Configures the firmware behind `link` (equilibrium at the initial gaps `gaps0`). A
     /// step that is not a whole number of control ticks is `Invalid` on `dt × rate`; the rest
@@ -81,6 +97,7 @@ impl<'a> FirmwareMagnets<'a> {
                 })?;
             }
         }
+        check_fault_channels(&hs.sensor_faults, channels.len())?;
         let cfg = Config {
             scalar: hs.scalar,
             rate_hz: hs.rate_hz,

@@ -6,12 +6,25 @@
 //! output of the same kind (it holds that kind's marker file) or empty: anything else,
 //! including a maglev output of the other kind (a run's directory given to `sweep merge`, a
 //! sweep's to `run`), is refused rather than overwritten.
+//!
+//! The rule is checked when the run starts and again on the directory itself once it has
+//! been renamed aside at the end (a directory made or filled at `--out` during the run is
+//! put back and the run refused, never deleted). What a process leaves when it is killed is
+//! cleaned by the next run into the same `--out`: its staging directory
+//! (`.OUT.partial-PID`, known by [`PARTIAL`] inside) and the previous output it had renamed
+//! aside (`.OUT.old-PID`, put back when `--out` is missing, else removed if marked). A
+//! signal removes the staging directory at once ([`interrupt`]).
+
+pub mod interrupt;
 
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// The file that marks a directory as a maglev run's output.
 pub const MARKER: &str = ".maglev-output";
+
+/// The file that marks a staging directory (a run being written) as maglev's.
+pub const PARTIAL: &str = ".maglev-partial";
 
 /// The kinds of output directory; each replaces only its own.
 #[derive(Clone, Copy)]
@@ -40,12 +53,45 @@ impl Kind {
             ),
         }
     }
+
+    /// `Ok` when `dir` is missing, empty or this kind's output; else the `--out` error.
+    fn may_replace(self, dir: &Path, target: &Path) -> Result<()> {
+        if !dir.exists() {
+            return Ok(());
+        }
+        let (marker, what, _) = self.marker();
+        if dir.join(marker).is_file() || is_empty(dir)? {
+            return Ok(());
+        }
+        let is = Kind::ALL
+            .iter()
+            .map(|k| k.marker())
+            .find(|(m, _, _)| dir.join(m).is_file())
+            .map_or("not a maglev output".to_string(), |(m, w, _)| {
+                format!("{w} ({m}), not {what}")
+            });
+        Err(Error::invalid(
+            format!("--out {}", target.display()),
+            format!(
+                "the directory exists and is {is} (no {marker} file); refusing to overwrite it"
+            ),
+        ))
+    }
+}
+
+fn is_empty(dir: &Path) -> Result<bool> {
+    Ok(std::fs::read_dir(dir)
+        .map_err(|e| Error::io(dir, e))?
+        .next()
+        .is_none())
 }
 
 /// A run's output being written.
 pub struct Staging {
     target: PathBuf,
     tmp: PathBuf,
+    /// Where the previous output is moved while the new one is renamed into place.
+    old: PathBuf,
     kind: Kind,
 }
 
@@ -62,27 +108,6 @@ impl Staging {
     }
 
     fn of_kind(target: &Path, kind: Kind) -> Result<Self> {
-        if target.exists() {
-            let (marker, what, _) = kind.marker();
-            let is_ours = target.join(marker).is_file();
-            let empty = std::fs::read_dir(target)
-                .map_err(|e| Error::io(target, e))?
-                .next()
-                .is_none();
-            if !is_ours && !empty {
-                let is = Kind::ALL
-                    .iter()
-                    .map(|k| k.marker())
-                    .find(|(m, _, _)| target.join(m).is_file())
-                    .map_or("not a maglev output".to_string(), |(m, w, _)| {
-                        format!("{w} ({m}), not {what}")
-                    });
-                return Err(Error::invalid(
-                    format!("--out {}", target.display()),
-                    format!("the directory exists and is {is} (no {marker} file); refusing to overwrite it"),
-                ));
-            }
-        }
         let name = target
             .file_name()
             .ok_or_else(|| {
@@ -97,12 +122,20 @@ impl Staging {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
+        clean_stale(&parent, &name, target, kind);
+        kind.may_replace(target, target)?;
         std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
-        let tmp = parent.join(format!(".{name}.partial-{}", std::process::id()));
+        let pid = std::process::id();
+        let tmp = parent.join(format!(".{name}.partial-{pid}"));
         let _ = std::fs::remove_dir_all(&tmp);
-        std::fs::create_dir(&tmp).map_err(|e| Error::io(&tmp, e))?;
+        interrupt::register(&tmp, || {
+            std::fs::create_dir(&tmp)
+                .and_then(|()| std::fs::write(tmp.join(PARTIAL), "a maglev run being written\n"))
+                .map_err(|e| Error::io(&tmp, e))
+        })?;
         Ok(Staging {
             target: target.to_path_buf(),
+            old: parent.join(format!(".{name}.old-{pid}")),
             tmp,
             kind,
         })
@@ -120,17 +153,98 @@ impl Staging {
     }
 
     /// Moves the complete run into place, replacing the previous output of its kind there.
+    /// What is at `--out` now is checked again (module docs): anything else stays, and the
+    /// run is refused.
     pub fn finish(self) -> Result<()> {
         let (marker, _, text) = self.kind.marker();
         self.put(marker, text)?;
-        let old = self.tmp.with_extension("old");
-        if self.target.exists() {
-            std::fs::rename(&self.target, &old).map_err(|e| Error::io(&self.target, e))?;
+        let _ = std::fs::remove_file(self.tmp.join(PARTIAL));
+        let mut active = interrupt::hold();
+        let moved = self.target.exists();
+        if moved {
+            std::fs::rename(&self.target, &self.old).map_err(|e| Error::io(&self.target, e))?;
+            if let Err(e) = self.kind.may_replace(&self.old, &self.target) {
+                // Changed during the run: put it back as it is.
+                return Err(match std::fs::rename(&self.old, &self.target) {
+                    Ok(()) => e,
+                    Err(_) => Error::invalid(
+                        format!("--out {}", self.target.display()),
+                        format!(
+                            "changed during the run; it was moved aside to {} and kept",
+                            self.old.display()
+                        ),
+                    ),
+                });
+            }
         }
-        std::fs::rename(&self.tmp, &self.target).map_err(|e| Error::io(&self.target, e))?;
-        let _ = std::fs::remove_dir_all(&old);
+        if let Err(e) = std::fs::rename(&self.tmp, &self.target) {
+            if moved {
+                let _ = std::fs::rename(&self.old, &self.target);
+            }
+            return Err(Error::io(&self.target, e));
+        }
+        active.retain(|d| d != &self.tmp);
+        drop(active);
+        if moved {
+            remove_replaced(&self.old);
+        }
         Ok(())
     }
+}
+
+/// Removes a previous output moved aside (checked to be replaceable): all of it when marked,
+/// only an empty directory otherwise (`remove_dir` refuses one filled meanwhile).
+fn remove_replaced(old: &Path) {
+    let marked = Kind::ALL.iter().any(|k| old.join(k.marker().0).is_file());
+    let _ = if marked {
+        std::fs::remove_dir_all(old)
+    } else {
+        std::fs::remove_dir(old)
+    };
+}
+
+/// Cleans what dead processes left beside `target` (module docs): staging directories of
+/// `name` that hold [`PARTIAL`], and previous outputs moved aside.
+fn clean_stale(parent: &Path, name: &str, target: &Path, kind: Kind) {
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return;
+    };
+    let (partial, old) = (format!(".{name}.partial-"), format!(".{name}.old-"));
+    for entry in entries.flatten() {
+        let file = entry.file_name().to_string_lossy().into_owned();
+        let dead = |prefix: &str| {
+            file.strip_prefix(prefix)
+                .and_then(|pid| pid.parse::<u32>().ok())
+                .is_some_and(|pid| !is_alive(pid))
+        };
+        let path = entry.path();
+        if dead(&partial) && path.join(PARTIAL).is_file() {
+            let _ = std::fs::remove_dir_all(&path);
+        } else if dead(&old) {
+            if !target.exists() {
+                let _ = std::fs::rename(&path, target);
+            } else if kind.may_replace(&path, target).is_ok() {
+                remove_replaced(&path);
+            }
+        }
+    }
+}
+
+/// Whether process `pid` exists (a signal 0 reaches it, or it is another user's).
+#[cfg(unix)]
+fn is_alive(pid: u32) -> bool {
+    let Ok(pid) = libc::pid_t::try_from(pid) else {
+        return true;
+    };
+    // SAFETY: kill with signal 0 sends nothing; it only checks that the process exists.
+    let r = unsafe { libc::kill(pid, 0) };
+    r == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
+}
+
+/// Elsewhere every process counts as alive: nothing is cleaned.
+#[cfg(not(unix))]
+fn is_alive(_pid: u32) -> bool {
+    true
 }
 
 /// Writes `text` to `path` through a sibling temporary file and a rename.
@@ -152,6 +266,7 @@ impl Drop for Staging {
     /// A run that did not finish leaves nothing behind.
     fn drop(&mut self) {
         let _ = std::fs::remove_dir_all(&self.tmp);
+        interrupt::unregister(&self.tmp);
     }
 }
 
@@ -236,5 +351,93 @@ mod tests {
         // Each replaces its own kind.
         Staging::new(&run).unwrap().finish().unwrap();
         Staging::sweep(&sweep).unwrap().finish().unwrap();
+    }
+
+    /// A process id that no process has (a child that has exited and been reaped).
+    fn dead_pid() -> u32 {
+        let mut c = std::process::Command::new("true").spawn().unwrap();
+        let pid = c.id();
+        c.wait().unwrap();
+        assert!(!is_alive(pid));
+        pid
+    }
+
+    #[test]
+    fn a_directory_made_at_out_during_the_run_is_kept_and_the_run_refused() {
+        let root = scratch("d1");
+        let out = root.join("out");
+        let s = Staging::new(&out).unwrap();
+        s.put("response.csv", "new").unwrap();
+        std::fs::create_dir(&out).unwrap();
+        std::fs::write(out.join("notes.txt"), "notes").unwrap();
+        let e = s.finish().unwrap_err().to_string();
+        assert!(
+            e.contains("not a maglev output") && e.contains("refusing"),
+            "{e}"
+        );
+        assert_eq!(
+            std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+            "notes"
+        );
+        let left: Vec<_> = std::fs::read_dir(&root).unwrap().collect();
+        assert_eq!(
+            left.len(),
+            1,
+            "the staging directory or the aside copy was left"
+        );
+        // Nor does a marked run's directory lose what was put at --out in its place.
+        let s = Staging::new(&root.join("run")).unwrap();
+        std::fs::create_dir(root.join("run")).unwrap();
+        std::fs::write(root.join("run/thesis.tex"), "x").unwrap();
+        assert!(s.finish().is_err());
+        assert!(root.join("run/thesis.tex").exists());
+    }
+
+    #[test]
+    fn what_a_killed_run_left_is_cleaned_by_the_next_run() {
+        let root = scratch("d6");
+        let out = root.join("out");
+        Staging::new(&out).unwrap().finish().unwrap();
+        let pid = dead_pid();
+        // A killed run's staging directory, another process's live one, and a directory
+        // that only looks like a staging directory (no PARTIAL file).
+        let stale = root.join(format!(".out.partial-{pid}"));
+        std::fs::create_dir(&stale).unwrap();
+        std::fs::write(stale.join(PARTIAL), "").unwrap();
+        let live = root.join(".out.partial-1");
+        std::fs::create_dir(&live).unwrap();
+        std::fs::write(live.join(PARTIAL), "").unwrap();
+        let lookalike = root.join(format!(".out.partial-{}", pid + 1_000_000));
+        std::fs::create_dir(&lookalike).unwrap();
+        std::fs::write(lookalike.join("data"), "").unwrap();
+        let s = Staging::new(&out).unwrap();
+        assert!(
+            !stale.exists(),
+            "a dead process's staging directory was kept"
+        );
+        assert!(live.exists() && lookalike.exists());
+        s.finish().unwrap();
+        // A run killed between its two renames: the previous output is put back.
+        std::fs::rename(&out, root.join(format!(".out.old-{pid}"))).unwrap();
+        Staging::new(&out).unwrap();
+        assert!(
+            out.join(MARKER).is_file(),
+            "the previous output was not put back"
+        );
+    }
+
+    #[test]
+    fn a_left_over_old_directory_does_not_stop_later_runs() {
+        let root = scratch("d7");
+        let out = root.join("out");
+        // The name earlier versions moved the previous output to, left full by a crash.
+        std::fs::create_dir(root.join(".out.old")).unwrap();
+        std::fs::write(root.join(".out.old/x"), "").unwrap();
+        for _ in 0..2 {
+            let s = Staging::new(&out).unwrap();
+            s.put("a", "b").unwrap();
+            s.finish().unwrap();
+        }
+        assert!(root.join(".out.old/x").exists(), "not ours to delete");
     }
 }

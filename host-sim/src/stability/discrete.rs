@@ -120,13 +120,14 @@ impl Step {
         out
     }
 
-    /// Spectral radius of one sub-step, `ρ(M)`, from nalgebra's eigenvalues.
+    /// Spectral radius of one sub-step, `ρ(M)`, from nalgebra's eigenvalues; NaN when an
+    /// eigenvalue is (a matrix that overflowed, [`max_substep`]), never a NaN dropped as 0.
     pub fn radius(&self) -> f64 {
         self.matrix()
             .complex_eigenvalues()
             .iter()
             .map(|z| z.norm())
-            .fold(0.0, f64::max)
+            .fold(0.0, |r, n| if n.is_nan() { n } else { r.max(n) })
     }
 
     /// `Q(δ)` of the module docs: negative exactly where the sub-step is stable.
@@ -135,6 +136,14 @@ impl Step {
         let (al, d) = (self.alpha, self.delta);
         (1.0 - al) * ki * d * d + (1.0 - 2.0 * al) * p * d - 2.0 * tau
     }
+}
+
+/// The longest sub-step δ whose amplification matrix is finite, with a factor 2 to spare:
+/// its largest terms grow as `ki·δ²/τ` ([`Step::matrix`]), which overflows f64 beyond
+/// `√(τ·f64::MAX/ki)` (about 1e153 s for the paper's loop). A longer step made the matrix
+/// NaN and the spectral radius 0 ("stable"; `stability --dt=1e300`).
+pub fn max_substep(lp: &Loop) -> f64 {
+    0.5 * (lp.tau * f64::MAX / lp.ki).sqrt()
 }
 
 /// Spectral radius of one outer step `Δt` (`n_sub` sub-steps at a fixed gap): `ρ(M)^n_sub`.
@@ -184,7 +193,8 @@ pub fn critical_dt_bisect(params: &Params, eta: f64, dt_max: f64) -> Option<f64>
     while !unstable(hi) {
         lo = hi;
         hi *= 2.0;
-        if hi > dt_max {
+        // Also ends on a start that doubling cannot move (0, NaN: a degenerate τ).
+        if !(hi <= dt_max && hi > lo) {
             return None;
         }
     }

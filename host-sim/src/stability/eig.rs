@@ -14,8 +14,15 @@ use nalgebra::DMatrix;
 /// Iterations allowed per eigenvalue (exceptional shifts at every tenth).
 const MAX_ITERATIONS: usize = 60;
 
-/// The eigenvalues of `a` (square, finite), unsorted; an error naming the matrix size if the
-/// iteration fails to converge or the matrix holds a non-finite entry.
+/// The largest entry magnitude accepted. Balancing (nalgebra's Parlett–Reinsch) squares and
+/// sums a row's entries and then halves or doubles the norms until they meet: a norm that
+/// overflowed to ∞ never meets, and the loop never ends (`stability --set
+/// vehicle.body_mass_t=1e200`). Below 1e100 the sums of squares of any matrix up to 10⁶² rows
+/// stay finite, and so does every norm the balancing reaches.
+pub const MAX_ENTRY: f64 = 1e100;
+
+/// The eigenvalues of `a` (square, entries finite and within ±[`MAX_ENTRY`]), unsorted; an
+/// error naming the matrix size if the iteration fails to converge or an entry is outside.
 pub fn eigenvalues(a: &DMatrix<f64>) -> crate::Result<Vec<Complex>> {
     let n = a.nrows();
     if a.ncols() != n {
@@ -25,9 +32,9 @@ pub fn eigenvalues(a: &DMatrix<f64>) -> crate::Result<Vec<Complex>> {
             a.ncols()
         )));
     }
-    if a.iter().any(|v| !v.is_finite()) {
+    if let Some(v) = a.iter().find(|v| v.is_nan() || v.abs() > MAX_ENTRY) {
         return Err(crate::Error::numerical(format!(
-            "a {n}×{n} state matrix holds a non-finite entry"
+            "a {n}×{n} state matrix holds the entry {v:e}, beyond ±{MAX_ENTRY:e} (a value of the case is too extreme for the linearised analysis)"
         )));
     }
     if n == 0 {
@@ -337,12 +344,24 @@ mod tests {
     }
 
     #[test]
-    fn rejects_non_finite_entries() {
-        let mut a = DMatrix::zeros(3, 3);
-        a[(1, 2)] = f64::NAN;
-        assert!(eigenvalues(&a)
-            .unwrap_err()
-            .to_string()
-            .contains("non-finite"));
+    fn rejects_non_finite_and_extreme_entries() {
+        for v in [f64::NAN, f64::INFINITY, -1e200] {
+            let mut a = DMatrix::from_diagonal_element(3, 3, 1.0);
+            a[(1, 2)] = v;
+            let e = eigenvalues(&a).unwrap_err().to_string();
+            assert!(e.contains("beyond ±1e100"), "{v}: {e}");
+        }
+    }
+
+    /// 1e200 entries: the sums of squares in the balancing overflow, and its loop never
+    /// ended before the range check.
+    #[test]
+    fn an_extreme_matrix_is_an_error_not_a_hang() {
+        let a = DMatrix::from_fn(
+            4,
+            4,
+            |i, j| if i == j { 1e200 } else { 1.0 + (i + j) as f64 },
+        );
+        assert!(eigenvalues(&a).is_err());
     }
 }

@@ -220,7 +220,8 @@ pub fn rigid_growth_rate(params: &Params) -> f64 {
     let f =
         |s: f64| ((m * lp.tau * s + m * lp.p) * s + m * lp.ki) * s - 2.0 * params.p0 / params.h0;
     let (mut lo, mut hi) = (0.0, 1.0);
-    while f(hi) < 0.0 {
+    // Ends at the latest when `hi` overflows (a cubic negative for every finite s: NaN out).
+    while f(hi) < 0.0 && hi.is_finite() {
         hi *= 2.0;
     }
     for _ in 0..200 {

@@ -181,7 +181,7 @@ pub struct Spec {
 impl Spec {
     /// Reads and checks the spec file at `path`.
     pub fn load(path: &std::path::Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = crate::input::read_text(path)?;
         let mut spec = Self::parse(&text)?;
         // A scenario file named relative to the spec is found beside it.
         let bundled = crate::scenario::BUNDLED

@@ -38,9 +38,7 @@ impl Header {
             .find(|(n, _)| *n == spec.scenario)
         {
             Some((_, t)) => t.to_string(),
-            None => {
-                std::fs::read_to_string(&spec.scenario).map_err(|e| Error::io(&spec.scenario, e))?
-            }
+            None => crate::input::read_text(std::path::Path::new(&spec.scenario))?,
         };
         Ok(Header {
             spec: spec.clone(),
