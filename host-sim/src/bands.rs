@@ -287,10 +287,12 @@ fn band_bins(band: Band, n: usize, df: f64) -> Vec<(usize, f64)> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BandLevel {
     pub band: Band,
-    /// The band's rms (whole record or maximum running), SI units of the level's quantity.
+    /// The band's rms (whole record or maximum running), SI units of the level's quantity
+    /// (`inf` only where the rms itself exceeds the f64 range; the level stays finite).
     pub rms: f64,
-    /// `20·log10(rms/ref)`, dB; `−inf` for a band without energy.
-    pub level_db: f64,
+    /// `20·log10(rms/ref)`, dB, always finite; `None` for a band without energy (a constant
+    /// record: no other record has a band of exactly zero energy).
+    pub level_db: Option<f64>,
 }
 
 /// The analysis settings.
@@ -314,94 +316,158 @@ pub fn analyse(samples: &[f64], dt: f64, s: &Settings) -> Result<Vec<BandLevel>,
     let n = samples.len();
     let record = n as f64 * dt;
     let bands = band_range(n, dt).ok_or(BandsError::TooShort { n, dt, record })?;
-    let window = match s.averaging {
-        Averaging::WholeRecord => None,
-        Averaging::MaxRunning { window_s } => {
-            let m = (window_s / dt).round();
-            if !(window_s.is_finite() && m >= 1.0 && m <= n as f64) {
-                return Err(BandsError::BadWindow {
-                    window: window_s,
-                    dt,
-                    record,
-                });
-            }
-            Some(m as usize)
-        }
-    };
-    let spectrum = converted_spectrum(samples, dt, s.input.order(), s.level.quantity().order());
-    let df = 1.0 / record;
-    let nn = (n as f64) * (n as f64);
+    let window = running_window(s.averaging, n, dt)?;
+    let spectrum = Spectrum::of(samples, dt);
+    let p = s.level.quantity().order() - s.input.order();
     let reference = s.level.reference();
     let mut inverse = None;
     let mut out = Vec::with_capacity(bands.clone().count());
     for index in bands {
         let band = Band { index };
-        let bins = band_bins(band, n, df);
+        // Mean square in the spectrum's scaled units, with (2π·f_m)^p taken out.
         let ms = match window {
-            None => bins
-                .iter()
-                .map(|&(k, w)| w * 2.0 * spectrum[k].norm_sqr() / nn)
-                .sum(),
+            None => spectrum.band_mean_square(band, p),
             Some(m) => {
-                let ifft =
-                    inverse.get_or_insert_with(|| RealFftPlanner::<f64>::new().plan_fft_inverse(n));
-                let y = band_signal(&spectrum, &bins, ifft.as_ref());
-                max_running_mean_square(&y, m)
+                let ifft = inverse.get_or_insert_with(|| {
+                    RealFftPlanner::<f64>::new().plan_fft_inverse(spectrum.padded)
+                });
+                let y = spectrum.band_signal(band, p, ifft.as_ref());
+                max_running_mean_square(&y[..n], m)
             }
         };
-        let rms = ms.sqrt();
+        let level_db = (ms > 0.0).then(|| {
+            10.0 * ms.log10()
+                + 20.0 * (spectrum.scale / reference).log10()
+                + 20.0 * f64::from(p) * (std::f64::consts::TAU * band.exact_hz()).log10()
+        });
         out.push(BandLevel {
             band,
-            rms,
-            level_db: 10.0 * (ms / (reference * reference)).log10(),
+            rms: level_db.map_or(0.0, |l| reference * 10f64.powf(l / 20.0)),
+            level_db,
         });
     }
     Ok(out)
 }
 
-/// `Y_k = (i·2π f_k)^p · V_k` for `p = out_order − in_order`, DC (and Nyquist) zeroed.
-fn converted_spectrum(
-    samples: &[f64],
-    dt: f64,
-    in_order: i32,
-    out_order: i32,
-) -> Vec<Complex<f64>> {
-    let n = samples.len();
-    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
-    let mut input = samples.to_vec();
-    let mut spectrum = fft.make_output_vec();
-    fft.process(&mut input, &mut spectrum)
-        .expect("buffer lengths come from the plan");
-    let p = out_order - in_order;
-    let df = 1.0 / (n as f64 * dt);
-    spectrum[0] = Complex::new(0.0, 0.0);
-    for (k, v) in spectrum.iter_mut().enumerate().skip(1) {
-        let omega = std::f64::consts::TAU * k as f64 * df;
-        *v *= Complex::new(0.0, omega).powi(p);
+/// The running-rms window in samples, `M = round(τ/Δt)`, checked to `1 ≤ M ≤ N`.
+fn running_window(averaging: Averaging, n: usize, dt: f64) -> Result<Option<usize>, BandsError> {
+    let Averaging::MaxRunning { window_s } = averaging else {
+        return Ok(None);
+    };
+    let m = (window_s / dt).round();
+    if !(window_s.is_finite() && m >= 1.0 && m <= n as f64) {
+        return Err(BandsError::BadWindow {
+            window: window_s,
+            dt,
+            record: n as f64 * dt,
+        });
     }
-    // For even N the last of the N/2 + 1 outputs is the Nyquist bin.
-    if 2 * (spectrum.len() - 1) == n {
-        spectrum[n / 2] = Complex::new(0.0, 0.0);
-    }
-    spectrum
+    Ok(Some(m as usize))
 }
 
-/// The band-limited time signal: inverse DFT of `√w_k·Y_k` on the band's bins.
-fn band_signal(
-    spectrum: &[Complex<f64>],
-    bins: &[(usize, f64)],
-    ifft: &dyn realfft::ComplexToReal<f64>,
-) -> Vec<f64> {
-    let mut z = ifft.make_input_vec();
-    for &(k, w) in bins {
-        z[k] = spectrum[k] * w.sqrt();
+/// The record at least this many times zero-padded: the spectrum's grid spacing is then at
+/// most `1/(16·T)`, and the midpoint rule over it is within 0.01 dB of the band integral in
+/// every band at least one `1/T` wide (docs/bands.md, "Accuracy").
+const MIN_PADDING: usize = 16;
+
+/// The FFT length for a record of `n` samples: a power of two at least `MIN_PADDING·n`.
+fn padded_len(n: usize) -> usize {
+    (MIN_PADDING * n).next_power_of_two()
+}
+
+/// The spectrum `V(f)` of the demeaned record divided by `scale`, sampled on the zero-padded
+/// grid `f_k = k/(padded·Δt)`.
+struct Spectrum {
+    bins: Vec<Complex<f64>>,
+    /// Samples in the record, `N`.
+    n: usize,
+    /// Samples after zero padding, a power of two `≥ 16·N`.
+    padded: usize,
+    dt: f64,
+    /// The record was divided by this before the FFT (its largest deviation from the mean, or
+    /// 1 for a constant record), so no square overflows or underflows.
+    scale: f64,
+}
+
+impl Spectrum {
+    fn of(samples: &[f64], dt: f64) -> Spectrum {
+        let n = samples.len();
+        let padded = padded_len(n);
+        let mut x = demeaned_scaled(samples);
+        let scale = x.pop().expect("demeaned_scaled appends the scale");
+        x.resize(padded, 0.0);
+        let fft = RealFftPlanner::<f64>::new().plan_fft_forward(padded);
+        let mut bins = fft.make_output_vec();
+        fft.process(&mut x, &mut bins)
+            .expect("buffer lengths come from the plan");
+        Spectrum {
+            bins,
+            n,
+            padded,
+            dt,
+            scale,
+        }
     }
-    let mut y = ifft.make_output_vec();
-    ifft.process(&mut z, &mut y)
-        .expect("DC and Nyquist bins are zero and the lengths come from the plan");
-    let n = y.len() as f64;
-    y.iter_mut().for_each(|v| *v /= n);
-    y
+
+    fn df(&self) -> f64 {
+        1.0 / (self.padded as f64 * self.dt)
+    }
+
+    /// The band's bins with their weights `w_k·(f_k/f_m)^{2p}` (the fraction of the bin
+    /// inside the band times the conversion, relative to the band's centre).
+    fn weighted_bins(&self, band: Band, p: i32) -> Vec<(usize, f64)> {
+        let fm = band.exact_hz();
+        let df = self.df();
+        band_bins(band, self.padded, df)
+            .into_iter()
+            .map(|(k, w)| (k, w * (k as f64 * df / fm).powi(2 * p)))
+            .collect()
+    }
+
+    /// `(2/(N·M))·Σ_k w_k·(f_k/f_m)^{2p}·|V_k|²`: the band integral's midpoint rule.
+    fn band_mean_square(&self, band: Band, p: i32) -> f64 {
+        let norm = 2.0 / (self.n as f64 * self.padded as f64);
+        self.weighted_bins(band, p)
+            .iter()
+            .map(|&(k, w)| w * norm * self.bins[k].norm_sqr())
+            .sum()
+    }
+
+    /// The band signal over the padded length (the record is its first `N` samples): the
+    /// inverse DFT of `√w_k·(i·f_k/f_m)^p·V_k` on the band's bins; its sum of squares over
+    /// all `M` samples, divided by `N`, is [`Self::band_mean_square`].
+    fn band_signal(&self, band: Band, p: i32, ifft: &dyn realfft::ComplexToReal<f64>) -> Vec<f64> {
+        let mut z = ifft.make_input_vec();
+        let phase = Complex::new(0.0, 1.0).powi(p);
+        for (k, w) in self.weighted_bins(band, p) {
+            z[k] = self.bins[k] * phase * w.sqrt();
+        }
+        let mut y = ifft.make_output_vec();
+        ifft.process(&mut z, &mut y)
+            .expect("DC and Nyquist bins are zero and the lengths come from the plan");
+        // realfft's inverse is unnormalised (M times the band signal).
+        let m = self.padded as f64;
+        y.iter_mut().for_each(|v| *v /= m);
+        y
+    }
+}
+
+/// The record minus its mean, divided by its largest deviation (all zeros for a constant
+/// record), with that divisor appended (1 for a constant record). The division comes first so
+/// that no sum overflows.
+fn demeaned_scaled(samples: &[f64]) -> Vec<f64> {
+    if samples.iter().all(|&v| v == samples[0]) {
+        let mut x = vec![0.0; samples.len()];
+        x.push(1.0);
+        return x;
+    }
+    let peak = samples.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let mean = samples.iter().map(|v| v / peak).sum::<f64>() / samples.len() as f64;
+    let mut x: Vec<f64> = samples.iter().map(|v| v / peak - mean).collect();
+    let dev = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    x.iter_mut().for_each(|v| *v /= dev);
+    x.push(peak * dev);
+    x
 }
 
 /// `max_j (1/m) Σ_{i=j}^{j+m−1} y_i²` over complete windows, by prefix sums (relative rounding
@@ -509,17 +575,21 @@ pub fn header_line(column: &str, n: usize, dt: f64, s: &Settings) -> String {
     format!(
         "# maglev bands: {} level L = 20*log10(rms/ref) dB re {:e} {}; column {column:?} is {} \
          in {}; IEC 61260-1 base-10 1/3-octave bands (centre_hz nominal, exact f_m = \
-         1000*10^(x/10) Hz, edges f_m*10^(+-1/20)); method: one FFT of the record (rectangular \
-         window, N = {n}, dt = {dt} s), brick-wall band edges, edge bins split by fraction; {averaging}",
+         1000*10^(x/10) Hz, edges f_m*10^(+-1/20)); method: the record's mean removed, its spectrum \
+         (the record zero outside itself: N = {n}, dt = {dt} s, FFT zero-padded to {padded}) \
+         integrated over each band, ideal band edges; {averaging}; an empty level: the band has \
+         no energy (a constant record)",
         q.name(),
         s.level.reference(),
         q.unit(),
         s.input.name(),
         s.input.unit(),
+        padded = padded_len(n),
     )
 }
 
-/// Write the `#` header line and the CSV `centre_hz,level_db` (levels to 0.0001 dB).
+/// Write the `#` header line and the CSV `centre_hz,level_db` (levels to 0.0001 dB; an empty
+/// level for a band without energy).
 pub fn write_levels<W: Write>(
     mut w: W,
     header: &str,
@@ -534,7 +604,7 @@ pub fn write_levels<W: Write>(
     for l in levels {
         wr.write_record([
             format!("{}", l.band.nominal_hz()),
-            format!("{:.4}", l.level_db),
+            l.level_db.map_or(String::new(), |db| format!("{db:.4}")),
         ])
         .map_err(csv_err)?;
     }
