@@ -123,3 +123,50 @@ pub fn read_csv_column(path: &std::path::Path, column: &str) -> (Vec<f64>, f64) 
     let dt = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
     (v, dt)
 }
+
+/// The band signal at the record's samples, `y_j = 2Δt·Re ∫_{f_l}^{f_u} (i2πf)^p·V(f)·
+/// e^{2πi·f·jΔt} df` (the inverse transform restricted to the band and its mirror image),
+/// by the same quadrature as the mean squares.
+pub fn band_signal(samples: &[f64], dt: f64, p: i32, x: i32) -> Vec<f64> {
+    let v = demeaned(samples);
+    let (lo, hi) = edges_hz(x);
+    let t = v.len() as f64 * dt;
+    let panels = ((hi - lo) * 2.0 * t).ceil().max(1.0) as usize;
+    let h = (hi - lo) / panels as f64;
+    let rule = gauss_legendre(8);
+    // (frequency, weight × (i2πf)^p·V(f)) at every node.
+    let mut nodes = Vec::with_capacity(panels * rule.len());
+    for i in 0..panels {
+        let mid = lo + (i as f64 + 0.5) * h;
+        for &(xn, w) in &rule {
+            let f = mid + 0.5 * h * xn;
+            let (c, s) = ((TAU * f * dt).cos(), -(TAU * f * dt).sin());
+            let (mut re, mut im) = (0.0, 0.0);
+            for &s_j in v.iter().rev() {
+                (re, im) = (re * c - im * s + s_j, re * s + im * c);
+            }
+            // (i2πf)^p: magnitude (2πf)^p, phase p·π/2.
+            let (m, ph) = ((TAU * f).powi(p), f64::from(p) * PI / 2.0);
+            let (cr, ci) = (m * ph.cos(), m * ph.sin());
+            let g = 0.5 * h * w;
+            nodes.push((f, g * (re * cr - im * ci), g * (re * ci + im * cr)));
+        }
+    }
+    (0..v.len())
+        .map(|j| {
+            let tj = j as f64 * dt;
+            2.0 * dt
+                * nodes
+                    .iter()
+                    .map(|&(f, re, im)| re * (TAU * f * tj).cos() - im * (TAU * f * tj).sin())
+                    .sum::<f64>()
+        })
+        .collect()
+}
+
+/// `max_j` of the mean of `y²` over `m` consecutive samples, summed directly.
+pub fn max_running_mean_square(y: &[f64], m: usize) -> f64 {
+    (0..=y.len() - m)
+        .map(|j| y[j..j + m].iter().map(|v| v * v).sum::<f64>() / m as f64)
+        .fold(0.0, f64::max)
+}
