@@ -175,22 +175,24 @@ pub fn statements(maglev: &TrainLevels, wheel_rail: &TrainLevels) -> Vec<Stateme
 }
 
 /// Fig. 8: both trains' band levels at the carriage and at the pier, level against the
-/// band's log10 frequency.
+/// band's nominal frequency on a logarithmic axis, a marker at each band.
 pub fn figure(maglev: &TrainLevels, wheel_rail: &TrainLevels) -> Result<String> {
     let series = |label: &str, l: &[BandLevel]| {
         let (x, y) = l
             .iter()
-            .filter_map(|b| Some((b.band.nominal_hz().log10(), b.level_db?)))
+            .filter_map(|b| Some((b.band.nominal_hz(), b.level_db?)))
             .unzip();
         Series::new(label, x, y)
     };
     let cell = |title: &str, a: &[BandLevel], b: &[BandLevel]| {
         Plot::new(
             title,
-            "band centre: log10(f / Hz)",
+            "band centre frequency (Hz, log scale)",
             "level (dB re 1e-6 m/s²)",
             vec![series("maglev", a), series("wheel/rail", b)],
         )
+        .log_x()
+        .markers()
     };
     plot::panels(
         "Fig. 8: 1/3-octave vertical acceleration levels at 83.33 m/s",

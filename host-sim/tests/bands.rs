@@ -189,8 +189,13 @@ fn sine_at_band_centre() {
         let want = db(a / SQRT_2, REF_ACCELERATION);
         let got = level_at(&levels, index);
         let floor = want + 10.0 * bounds.own_band_at_least(band).log10();
-        println!("sine {fm:.4} Hz, A = {a}: level {got:.6} dB, rms {want:.6} dB, bound {floor:.6} dB");
-        assert!(got <= want + 1e-9 && got >= floor, "{got} vs [{floor}, {want}]");
+        println!(
+            "sine {fm:.4} Hz, A = {a}: level {got:.6} dB, rms {want:.6} dB, bound {floor:.6} dB"
+        );
+        assert!(
+            got <= want + 1e-9 && got >= floor,
+            "{got} vs [{floor}, {want}]"
+        );
         for l in levels.iter().filter(|l| l.band.index != index) {
             let cap = 10.0 * (ms * bounds.other_band_at_most(l.band) / 1e-12).log10();
             let level = l.level_db.unwrap();
@@ -222,7 +227,10 @@ fn sine_on_band_edge_splits_half_and_half() {
     for index in [-16, -15] {
         let got = level_at(&levels, index);
         println!("band {index}: {:.4} dB relative to the tone", got - tone);
-        assert!((got - tone + 3.0103).abs() < 0.1, "band {index}: {got} vs {tone}");
+        assert!(
+            (got - tone + 3.0103).abs() < 0.1,
+            "band {index}: {got} vs {tone}"
+        );
         sum += 10f64.powf(got / 10.0);
     }
     let t = n as f64 * dt;
@@ -230,7 +238,10 @@ fn sine_on_band_edge_splits_half_and_half() {
     let a_out = (fe - lower.lower_hz()).min(Band { index: -15 }.upper_hz() - fe);
     let floor = 1.0 - 1.0 / (a_out * t) - (1.0 / fe + 1.0 / (0.5 / dt - fe)) / (2.0 * t);
     let both = 10.0 * sum.log10();
-    assert!(both <= tone + 1e-9 && both >= tone + 10.0 * floor.log10(), "{both} vs {tone}");
+    assert!(
+        both <= tone + 1e-9 && both >= tone + 10.0 * floor.log10(),
+        "{both} vs {tone}"
+    );
     check_against_reference(&x, dt, &accel(WHOLE), 0.01);
 }
 
@@ -312,7 +323,10 @@ fn quantity_conversions() {
             + 20.0 * (s.level.reference() / REF_VELOCITY).log10();
         let want = base + 20.0 * f64::from(p) * w.log10();
         println!("{input:?} -> {level:?}: worst {worst:.1e} dB; sine {got:.4} vs {want:.4}");
-        assert!((got - want).abs() < 0.1, "{input:?}->{level:?}: {got} vs {want}");
+        assert!(
+            (got - want).abs() < 0.1,
+            "{input:?}->{level:?}: {got} vs {want}"
+        );
     }
 }
 

@@ -233,7 +233,13 @@ fn paper5_histories_agree_with_the_independent_analyser() {
     for file in ["history-maglev.csv", "history-wheel-rail.csv"] {
         let path = docs.join(file);
         for column in ["car4.body.az", "pier20.base.az"] {
-            let out = maglev(&["bands", "--input", path.to_str().unwrap(), "--column", column]);
+            let out = maglev(&[
+                "bands",
+                "--input",
+                path.to_str().unwrap(),
+                "--column",
+                column,
+            ]);
             assert_ok(&out);
             let (_, rows) = parse(&out.stdout);
             let (v, dt) = bands_reference::read_csv_column(&path, column);
@@ -276,7 +282,11 @@ fn levels_are_finite_or_empty() {
     let out = maglev(&["bands", "--input", input.to_str().unwrap(), "--column", "a"]);
     assert_ok(&out);
     let text = String::from_utf8(out.stdout).unwrap();
-    assert!(text.lines().next().unwrap().contains("an empty level: the band has no energy"));
+    assert!(text
+        .lines()
+        .next()
+        .unwrap()
+        .contains("an empty level: the band has no energy"));
     let cells: Vec<&str> = text.lines().skip(2).collect();
     assert_eq!(cells.len(), 27);
     assert!(cells.iter().all(|l| l.ends_with(',')), "{text}");
@@ -299,7 +309,13 @@ fn levels_are_finite_or_empty() {
 
     let overflow = temp_file("bands_overflow.csv", "t,a\n0,1\n0.1,2\n0.2,1e999\n0.3,1\n");
     assert_input_error(
-        &["bands", "--input", overflow.to_str().unwrap(), "--column", "a"],
+        &[
+            "bands",
+            "--input",
+            overflow.to_str().unwrap(),
+            "--column",
+            "a",
+        ],
         "column \"a\" line 4: \"1e999\" is not a finite number",
     );
 }
