@@ -7,7 +7,10 @@
 //! single point, an empty or all-NaN series) still gives a valid figure: the ranges are padded
 //! here before plotters sees them. Long histories are thinned per pixel column to their first,
 //! lowest, highest and last points, so every peak survives. Non-finite values break a curve
-//! instead of being joined across. Text is left to the SVG viewer's fonts (`<text>` elements):
+//! instead of being joined across. The first series (the reference, as a rule) is a broad
+//! translucent band and the others opaque lines on top, so a curve that lies on the reference
+//! stays visible inside it. A plot may ask for a logarithmic x axis (ticks at 1, 2, 5 × 10ⁿ,
+//! labelled in the data's units) and for a marker at every point. Text is left to the SVG viewer's fonts (`<text>` elements):
 //! plotters is built without its font features, so neither the build nor the run needs a
 //! system font library; box widths are estimated from the character count.
 //!

@@ -153,3 +153,25 @@ pub fn plots(
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Units from the scenario keys' suffixes, through the short keys; none for a key without
+    /// one.
+    #[test]
+    fn key_units_come_from_the_scenario_key_names() {
+        assert_eq!(key_unit("speed"), "m/s");
+        assert_eq!(key_unit("dt"), "s");
+        assert_eq!(key_unit("t_end"), "s");
+        assert_eq!(key_unit("bridge.pier.height_m"), "m");
+        assert_eq!(key_unit("seed"), "");
+        assert_eq!(key_unit("alpha"), "");
+        assert_eq!(
+            with_unit("peak:midspan_z", si_unit("midspan_z")),
+            "peak:midspan_z (m)"
+        );
+        assert_eq!(si_unit("car4.body.az"), "m/s²");
+    }
+}
