@@ -272,7 +272,8 @@ pub fn band_range(n: usize, dt: f64) -> Option<RangeInclusive<i32>> {
     (lo <= hi).then_some(lo..=hi)
 }
 
-/// Bins of one band with their weights `w_k` (fraction of the bin's interval in the band).
+/// Bins of one band on an `n`-point DFT grid of spacing `df` (the zero-padded one), with their
+/// weights `w_k` (the fraction of the bin's interval inside the band).
 fn band_bins(band: Band, n: usize, df: f64) -> Vec<(usize, f64)> {
     let (fl, fu) = (band.lower_hz(), band.upper_hz());
     let first = ((fl / df - 0.5).floor().max(1.0)) as usize;

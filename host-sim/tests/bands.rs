@@ -357,8 +357,9 @@ fn chi2_ratio(nu: f64, z: f64) -> f64 {
 }
 
 /// Gaussian white noise of variance σ² (seeded): the band mean square's expectation is
-/// σ²·B/(f_s/2), and it is σ²/N·(a weighted sum of χ²₂ variables, one per bin) with at least
-/// ν = 2·B·T degrees of freedom (Satterthwaite: ν = 2(Σw)²/Σw² ≥ 2Σw = 2BT). Every band must
+/// σ²·B/(f_s/2), and it is (1/N)·vᵀPv with P the band-limiting projector restricted to the
+/// record (eigenvalues λ in [0, 1], trace 2BT): σ²/N·Σλ·χ²₁, with Satterthwaite's
+/// ν = (Σλ)²/Σλ² ≥ Σλ = 2BT degrees of freedom (as λ ≤ 1). Every band must
 /// lie within the z = ±4 Wilson–Hilferty quantiles for ν = 2BT (a per-band false alarm of
 /// 6e-5; over ~40 bands 0.3 %), and the sum over the bands within the same bound for the
 /// summed bandwidth.
