@@ -10,9 +10,10 @@
 //! instead of being joined across. The first series (the reference, as a rule) is a broad
 //! translucent band and the others opaque lines on top, so a curve that lies on the reference
 //! stays visible inside it. A plot may ask for a logarithmic x axis (ticks at 1, 2, 5 × 10ⁿ,
-//! labelled in the data's units) and for a marker at every point. Text is left to the SVG viewer's fonts (`<text>` elements):
-//! plotters is built without its font features, so neither the build nor the run needs a
-//! system font library; box widths are estimated from the character count.
+//! labelled in the data's units) and for a marker at every point. Text is left to the SVG
+//! viewer's fonts (`<text>` elements): plotters is built without its font features, so neither
+//! the build nor the run needs a system font library; box widths are estimated from the
+//! character count.
 //!
 //! The API: [`lines`] for one plot, [`panels`] for several plots in a grid as one SVG, both
 //! over [`Plot`]s of [`Series`]. Callers convert to display units (mm, kN) and say so in the
@@ -428,6 +429,9 @@ fn draw<DB: DrawingBackend>(
     })
 }
 
+/// The data area's x and y pixel ranges.
+type PixelRanges = (std::ops::Range<i32>, std::ops::Range<i32>);
+
 /// The mesh, the zero line and the curves of `plot` on `chart` (x in log10 units on a
 /// logarithmic axis); returns the data area's pixel ranges.
 fn draw_data<'a, DB, X>(
@@ -435,10 +439,7 @@ fn draw_data<'a, DB, X>(
     plot: &Plot,
     segments: &[Vec<Vec<(f64, f64)>>],
     (y0, y1): (f64, f64),
-) -> std::result::Result<
-    (std::ops::Range<i32>, std::ops::Range<i32>),
-    DrawingAreaErrorKind<DB::ErrorType>,
->
+) -> std::result::Result<PixelRanges, DrawingAreaErrorKind<DB::ErrorType>>
 where
     DB: DrawingBackend + 'a,
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,

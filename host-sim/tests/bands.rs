@@ -304,7 +304,7 @@ fn quantity_conversions() {
     let f = k as f64 / (n as f64 * dt);
     let w = TAU * f;
     let sine = periodic_sine(n, k, 1e-4, 0.7);
-    let mut rng = Normal(0x5EED_0C0);
+    let mut rng = Normal(0x5EED_00C0);
     let noise: Vec<f64> = (0..n).map(|_| rng.pair().0).collect();
     let cases = [
         (Quantity::Displacement, Level::Acceleration, 2),
@@ -487,7 +487,7 @@ fn running_rms_against_the_reference_band_signal() {
     let index = -13;
     let dt = dt_for(Band { index }.exact_hz(), n, k);
     let sine = periodic_sine(n, k, 1.0, 0.0);
-    let mut rng = Normal(0x5EED_0A1);
+    let mut rng = Normal(0x5EED_00A1);
     let noise: Vec<f64> = (0..n).map(|_| rng.pair().0).collect();
     for (x, what) in [(&sine, "sine"), (&noise, "noise")] {
         for m in [100usize, 1000] {
