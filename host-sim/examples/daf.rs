@@ -4,8 +4,8 @@
 //! and the cost of each run.
 //!
 //! `cargo run --release --example daf -- [--out DIR] [--jobs N] [--svg FILE]` (defaults
-//! target/daf, all cores, docs/sweeps-daf.svg). The sweeps are resumable: a second call only
-//! redraws.
+//! target/daf, all cores, DIR/daf.svg; `--svg docs/sweeps-daf.svg` refreshes the tracked
+//! figure of docs/sweeps.md). The sweeps are resumable: a second call only redraws.
 
 use maglev_host_sim::sweep::{self, plot, Options, Spec};
 use std::path::{Path, PathBuf};
@@ -51,13 +51,13 @@ fn rows(dir: &Path) -> Vec<csv::StringRecord> {
 fn main() {
     let mut args = std::env::args().skip(1);
     let mut out = PathBuf::from("target/daf");
-    let mut svg = PathBuf::from("docs/sweeps-daf.svg");
+    let mut svg = None;
     let mut jobs = std::thread::available_parallelism().map_or(1, |n| n.get());
     while let Some(a) = args.next() {
         let v = args.next().expect("a value after the option");
         match a.as_str() {
             "--out" => out = v.into(),
-            "--svg" => svg = v.into(),
+            "--svg" => svg = Some(PathBuf::from(v)),
             "--jobs" => jobs = v.parse().expect("--jobs N"),
             _ => panic!("unknown option {a}"),
         }
@@ -136,6 +136,7 @@ fn main() {
         &curves,
     )
     .expect("the DAF plot");
+    let svg = svg.unwrap_or_else(|| out.join("daf.svg"));
     std::fs::write(&svg, text).unwrap();
     eprintln!("wrote {}", svg.display());
 }

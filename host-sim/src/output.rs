@@ -251,12 +251,15 @@ pub fn write_run(
 /// deviation from h0 in mm about a zero line (docs/model.md §2).
 fn history_plot(name: &str, model: &str, t: &[f64], y: &[f64], h0: Option<f64>) -> Plot {
     let scaled = |k: f64, off: f64| y.iter().map(|v| (v - off) * k).collect::<Vec<_>>();
-    let (label, y, zero) = match (name, h0) {
-        (n, Some(h0)) if n.ends_with("gap_z") => (format!("{n} − h0 (mm)"), scaled(1e3, h0), true),
-        (n, _) if n.ends_with("rx") => (format!("{n} (rad)"), y.to_vec(), false),
-        (n, _) if n.ends_with("az") => (format!("{n} (m/s²)"), y.to_vec(), true),
-        (n, _) if n.ends_with("force_z") => (format!("{n} (kN)"), scaled(1e-3, 0.0), false),
-        (n, _) => (format!("{n} (mm)"), scaled(1e3, 0.0), false),
+    let n = name;
+    let (label, y, zero) = match (crate::probes::si_unit(name), h0) {
+        ("m", Some(h0)) if n.ends_with("gap_z") => {
+            (format!("{n} − h0 (mm)"), scaled(1e3, h0), true)
+        }
+        ("rad", _) => (format!("{n} (rad)"), y.to_vec(), false),
+        ("m/s²", _) => (format!("{n} (m/s²)"), y.to_vec(), true),
+        ("N", _) => (format!("{n} (kN)"), scaled(1e-3, 0.0), false),
+        _ => (format!("{n} (mm)"), scaled(1e3, 0.0), false),
     };
     let p = Plot::new(
         name,

@@ -98,18 +98,18 @@ pub fn levels(run: &TrainRun) -> Result<TrainLevels> {
 pub fn top_band(levels: &[BandLevel]) -> Option<&BandLevel> {
     levels
         .iter()
-        .filter(|l| l.level_db.is_finite())
-        .max_by(|a, b| a.level_db.total_cmp(&b.level_db))
+        .filter_map(|l| l.level_db.map(|db| (l, db)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(l, _)| l)
 }
 
-/// Bands in which `a` lies below `b`, out of the bands both have.
+/// Bands in which `a` lies below `b`, out of the bands both have a level in.
 fn bands_below(a: &[BandLevel], b: &[BandLevel]) -> (usize, usize) {
     let pairs: Vec<(f64, f64)> = a
         .iter()
         .filter_map(|x| {
-            b.iter()
-                .find(|y| y.band == x.band)
-                .map(|y| (x.level_db, y.level_db))
+            let y = b.iter().find(|y| y.band == x.band)?;
+            Some((x.level_db?, y.level_db?))
         })
         .collect();
     let below = pairs.iter().filter(|(x, y)| x < y).count();
@@ -123,9 +123,10 @@ pub fn statements(maglev: &TrainLevels, wheel_rail: &TrainLevels) -> Vec<Stateme
     let at = |l: &[BandLevel], hz: f64| {
         l.iter()
             .find(|b| b.band.nominal_hz() == hz)
-            .map_or(f64::NAN, |b| b.level_db)
+            .and_then(|b| b.level_db)
+            .unwrap_or(f64::NAN)
     };
-    let peak_db = |l: &[BandLevel]| top_band(l).map_or(f64::NAN, |b| b.level_db);
+    let peak_db = |l: &[BandLevel]| top_band(l).and_then(|b| b.level_db).unwrap_or(f64::NAN);
     for (point, lv) in [("carriage", &maglev.carriage), ("pier", &maglev.pier)] {
         let f = top(lv);
         out.push(Statement {
@@ -174,23 +175,24 @@ pub fn statements(maglev: &TrainLevels, wheel_rail: &TrainLevels) -> Vec<Stateme
 }
 
 /// Fig. 8: both trains' band levels at the carriage and at the pier, level against the
-/// band's log10 frequency.
+/// band's nominal frequency on a logarithmic axis, a marker at each band.
 pub fn figure(maglev: &TrainLevels, wheel_rail: &TrainLevels) -> Result<String> {
     let series = |label: &str, l: &[BandLevel]| {
         let (x, y) = l
             .iter()
-            .filter(|b| b.level_db.is_finite())
-            .map(|b| (b.band.nominal_hz().log10(), b.level_db))
+            .filter_map(|b| Some((b.band.nominal_hz(), b.level_db?)))
             .unzip();
         Series::new(label, x, y)
     };
     let cell = |title: &str, a: &[BandLevel], b: &[BandLevel]| {
         Plot::new(
             title,
-            "band centre: log10(f / Hz)",
+            "band centre frequency (Hz, log scale)",
             "level (dB re 1e-6 m/s²)",
             vec![series("maglev", a), series("wheel/rail", b)],
         )
+        .log_x()
+        .markers()
     };
     plot::panels(
         "Fig. 8: 1/3-octave vertical acceleration levels at 83.33 m/s",
@@ -216,7 +218,8 @@ pub fn bands_csv(maglev: &TrainLevels, wheel_rail: &TrainLevels) -> String {
     for (train, lv) in [("maglev", maglev), ("wheel-rail", wheel_rail)] {
         for (point, l) in [(CARRIAGE, &lv.carriage), (PIER, &lv.pier)] {
             for b in l {
-                let _ = writeln!(s, "{train},{point},{},{}", b.band.nominal_hz(), b.level_db);
+                let db = b.level_db.map_or(String::new(), |db| db.to_string());
+                let _ = writeln!(s, "{train},{point},{},{db}", b.band.nominal_hz());
             }
         }
     }
@@ -281,7 +284,8 @@ pub fn markdown(
     let find = |l: &[BandLevel], b: &BandLevel| {
         l.iter()
             .find(|x| x.band == b.band)
-            .map_or("–".to_string(), |x| format!("{:.1}", x.level_db))
+            .and_then(|x| x.level_db)
+            .map_or("–".to_string(), |db| format!("{db:.1}"))
     };
     for b in &maglev.carriage {
         let _ = writeln!(

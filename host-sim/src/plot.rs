@@ -7,9 +7,13 @@
 //! single point, an empty or all-NaN series) still gives a valid figure: the ranges are padded
 //! here before plotters sees them. Long histories are thinned per pixel column to their first,
 //! lowest, highest and last points, so every peak survives. Non-finite values break a curve
-//! instead of being joined across. Text is left to the SVG viewer's fonts (`<text>` elements):
-//! plotters is built without its font features, so neither the build nor the run needs a
-//! system font library; box widths are estimated from the character count.
+//! instead of being joined across. The first series (the reference, as a rule) is a broad
+//! translucent band and the others opaque lines on top, so a curve that lies on the reference
+//! stays visible inside it. A plot may ask for a logarithmic x axis (ticks at 1, 2, 5 × 10ⁿ,
+//! labelled in the data's units) and for a marker at every point. Text is left to the SVG
+//! viewer's fonts (`<text>` elements): plotters is built without its font features, so neither
+//! the build nor the run needs a system font library; box widths are estimated from the
+//! character count.
 //!
 //! The API: [`lines`] for one plot, [`panels`] for several plots in a grid as one SVG, both
 //! over [`Plot`]s of [`Series`]. Callers convert to display units (mm, kN) and say so in the
@@ -29,6 +33,8 @@
 //! ```
 
 use crate::{Error, Result};
+use plotters::coord::ranged1d::{KeyPointHint, NoDefaultFormatting, ValueFormatter};
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -60,6 +66,10 @@ pub struct Plot {
     pub series: Vec<Series>,
     /// Draw the line y = 0 (and keep it in range): for deviations such as gap − h0.
     pub zero_line: bool,
+    /// A logarithmic x axis (positive x only; ticks at 1, 2, 5 × 10ⁿ, labelled with x).
+    pub log_x: bool,
+    /// A marker at every point (for a few points, such as one per sweep run).
+    pub markers: bool,
 }
 
 impl Plot {
@@ -75,12 +85,26 @@ impl Plot {
             ylabel: ylabel.into(),
             series,
             zero_line: false,
+            log_x: false,
+            markers: false,
         }
     }
 
     /// The same plot with a zero line.
     pub fn zero_line(mut self) -> Self {
         self.zero_line = true;
+        self
+    }
+
+    /// The same plot on a logarithmic x axis.
+    pub fn log_x(mut self) -> Self {
+        self.log_x = true;
+        self
+    }
+
+    /// The same plot with a marker at every point.
+    pub fn markers(mut self) -> Self {
+        self.markers = true;
         self
     }
 }
@@ -254,10 +278,11 @@ fn thin(points: &[(f64, f64)], x0: f64, x1: f64, px: usize) -> Vec<(f64, f64)> {
     out
 }
 
-/// The finite stretches of a series (a non-finite x or y ends a stretch).
-fn stretches(s: &Series) -> Vec<Vec<(f64, f64)>> {
+/// The finite stretches of a series (a non-finite x or y ends a stretch), x mapped by `fx`
+/// (log10 on a logarithmic axis, where x ≤ 0 is non-finite).
+fn stretches(s: &Series, fx: fn(f64) -> f64) -> Vec<Vec<(f64, f64)>> {
     let mut out = vec![Vec::new()];
-    for (&x, &y) in s.x.iter().zip(&s.y) {
+    for (x, &y) in s.x.iter().map(|&x| fx(x)).zip(&s.y) {
         if x.is_finite() && y.is_finite() {
             out.last_mut().expect("never empty").push((x, y));
         } else if !out.last().expect("never empty").is_empty() {
@@ -321,7 +346,13 @@ fn draw<DB: DrawingBackend>(
     };
     let (chart_area, legend_area) = body.split_horizontally(w as i32 - legend_w);
 
-    let segments: Vec<Vec<Vec<(f64, f64)>>> = plot.series.iter().map(stretches).collect();
+    let fx: fn(f64) -> f64 = if plot.log_x {
+        |x| if x > 0.0 { x.log10() } else { f64::NAN }
+    } else {
+        |x| x
+    };
+    let segments: Vec<Vec<Vec<(f64, f64)>>> =
+        plot.series.iter().map(|s| stretches(s, fx)).collect();
     let all = || segments.iter().flatten().flatten();
     let (x0, x1) = widen(
         all().map(|p| p.0).fold(f64::INFINITY, f64::min),
@@ -338,46 +369,27 @@ fn draw<DB: DrawingBackend>(
     let pad = 0.05 * (yhi - ylo);
     let (y0, y1) = (ylo - pad, yhi + pad);
 
-    let mut chart = ChartBuilder::on(&chart_area)
-        .margin_top(6)
-        .margin_right(12)
-        .margin_left(6)
-        .x_label_area_size(42)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, y0..y1)?;
-    let (xmag, ymag) = (x0.abs().max(x1.abs()), y0.abs().max(y1.abs()));
-    let xfmt = |v: &f64| tick_label(*v, x1 - x0, xmag);
-    let yfmt = |v: &f64| tick_label(*v, y1 - y0, ymag);
-    chart
-        .configure_mesh()
-        .x_labels(8)
-        .y_labels(7)
-        .light_line_style(TRANSPARENT)
-        .bold_line_style(RGBColor(0xdd, 0xdd, 0xdd))
-        .x_label_formatter(&xfmt)
-        .y_label_formatter(&yfmt)
-        .label_style(font(LABEL_PX))
-        .axis_desc_style(font(LABEL_PX))
-        .x_desc(plot.xlabel.as_str())
-        .y_desc(plot.ylabel.as_str())
-        .draw()?;
-    if plot.zero_line {
-        chart.draw_series(std::iter::once(PathElement::new(
-            vec![(x0, 0.0), (x1, 0.0)],
-            ZERO_LINE.stroke_width(1),
-        )))?;
-    }
-    let (px_x, px_y) = chart.plotting_area().get_pixel_range();
-    let columns = (px_x.end - px_x.start).max(1) as usize;
-    for (i, segs) in segments.iter().enumerate() {
-        let style = style(i);
-        for seg in segs {
-            chart.draw_series(std::iter::once(PathElement::new(
-                thin(seg, x0, x1, columns),
-                style,
-            )))?;
-        }
-    }
+    let builder = || {
+        let mut b = ChartBuilder::on(&chart_area);
+        b.margin_top(6)
+            .margin_right(12)
+            .margin_left(6)
+            .x_label_area_size(42)
+            .y_label_area_size(70);
+        b
+    };
+    let (px_x, px_y) = if plot.log_x {
+        let axis = Log10Axis::new(x0, x1);
+        draw_data(
+            builder().build_cartesian_2d(axis, y0..y1)?,
+            plot,
+            &segments,
+            (y0, y1),
+        )?
+    } else {
+        let chart = builder().build_cartesian_2d(x0..x1, y0..y1)?;
+        draw_data(chart, plot, &segments, (y0, y1))?
+    };
     let plotting = (px_x.start, px_y.start, px_x.end, px_y.end);
     if plot.series.is_empty() {
         return Ok(Layout {
@@ -402,6 +414,9 @@ fn draw<DB: DrawingBackend>(
     for (i, s) in plot.series.iter().enumerate() {
         let y = top + 4 + row * i as i32 + row / 2;
         legend_area.draw(&PathElement::new(vec![(8, y), (32, y)], style(i)))?;
+        if plot.markers {
+            draw_markers(&legend_area, i, &[(20, y)])?;
+        }
         legend_area.draw(&Text::new(
             s.label.as_str(),
             (38, y),
@@ -414,9 +429,161 @@ fn draw<DB: DrawingBackend>(
     })
 }
 
-/// Series `i`'s line: the first (the reference, as a rule) broad, the others thin on top.
+/// The data area's x and y pixel ranges.
+type PixelRanges = (std::ops::Range<i32>, std::ops::Range<i32>);
+
+/// The mesh, the zero line and the curves of `plot` on `chart` (x in log10 units on a
+/// logarithmic axis); returns the data area's pixel ranges.
+fn draw_data<'a, DB, X>(
+    mut chart: ChartContext<'a, DB, Cartesian2d<X, RangedCoordf64>>,
+    plot: &Plot,
+    segments: &[Vec<Vec<(f64, f64)>>],
+    (y0, y1): (f64, f64),
+) -> std::result::Result<PixelRanges, DrawingAreaErrorKind<DB::ErrorType>>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let range = chart.x_range();
+    let (x0, x1) = (range.start, range.end);
+    let xmag = x0.abs().max(x1.abs());
+    let ymag = y0.abs().max(y1.abs());
+    let xfmt = |v: &f64| {
+        if plot.log_x {
+            decimal(10f64.powf(*v))
+        } else {
+            tick_label(*v, x1 - x0, xmag)
+        }
+    };
+    let yfmt = |v: &f64| tick_label(*v, y1 - y0, ymag);
+    chart
+        .configure_mesh()
+        .x_labels(8)
+        .y_labels(7)
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(RGBColor(0xdd, 0xdd, 0xdd))
+        .x_label_formatter(&xfmt)
+        .y_label_formatter(&yfmt)
+        .label_style(font(LABEL_PX))
+        .axis_desc_style(font(LABEL_PX))
+        .x_desc(plot.xlabel.as_str())
+        .y_desc(plot.ylabel.as_str())
+        .draw()?;
+    if plot.zero_line {
+        chart.draw_series(std::iter::once(PathElement::new(
+            vec![(x0, 0.0), (x1, 0.0)],
+            ZERO_LINE.stroke_width(1),
+        )))?;
+    }
+    let (px_x, px_y) = chart.plotting_area().get_pixel_range();
+    let columns = (px_x.end - px_x.start).max(1) as usize;
+    for (i, segs) in segments.iter().enumerate() {
+        for seg in segs {
+            let points = thin(seg, x0, x1, columns);
+            chart.draw_series(std::iter::once(PathElement::new(points.clone(), style(i))))?;
+            if plot.markers {
+                draw_markers(chart.plotting_area(), i, &points)?;
+            }
+        }
+    }
+    Ok((px_x, px_y))
+}
+
+/// Series `i`'s line: the first (the reference, as a rule) a broad translucent band, the
+/// others opaque lines on top, so that a curve lying on the reference shows inside its band
+/// and one leaving it shows beside it.
 fn style(i: usize) -> ShapeStyle {
-    COLOURS[i % COLOURS.len()].stroke_width(if i == 0 { 3 } else { 1 })
+    let colour = COLOURS[i % COLOURS.len()];
+    if i == 0 {
+        colour.mix(0.45).stroke_width(6)
+    } else {
+        colour.stroke_width(2)
+    }
+}
+
+/// Series `i`'s point markers at `points` of `area`: filled circles (series 0) or open
+/// squares (the others), so that coinciding points of two series both show.
+fn draw_markers<DB, CT, C>(
+    area: &DrawingArea<DB, CT>,
+    i: usize,
+    points: &[C],
+) -> std::result::Result<(), DrawingAreaErrorKind<DB::ErrorType>>
+where
+    DB: DrawingBackend,
+    CT: CoordTranslate<From = C>,
+    C: Clone,
+{
+    let colour = COLOURS[i % COLOURS.len()];
+    for p in points {
+        let at = EmptyElement::at(p.clone());
+        if i == 0 {
+            area.draw(&(at + Circle::new((0, 0), 4, colour.filled())))?;
+        } else {
+            area.draw(&(at + Rectangle::new([(-4, -4), (4, 4)], colour.stroke_width(2))))?;
+        }
+    }
+    Ok(())
+}
+
+/// A logarithmic x axis: linear in log10(x) over `[x0, x1]` (log10 units), its ticks the
+/// 1, 2, 5 × 10ⁿ inside the range (plotters' own logarithmic axis labels decades only, or
+/// every 1…9 × 10ⁿ).
+struct Log10Axis {
+    inner: RangedCoordf64,
+    ticks: Vec<f64>,
+}
+
+impl Log10Axis {
+    fn new(x0: f64, x1: f64) -> Self {
+        let (lo, hi) = (x0.floor() as i32, x1.ceil() as i32);
+        let ticks = (lo..=hi)
+            .flat_map(|e| [1.0f64, 2.0, 5.0].map(|m| m.log10() + f64::from(e)))
+            .filter(|v| (x0..=x1).contains(v))
+            .collect();
+        Log10Axis {
+            inner: (x0..x1).into(),
+            ticks,
+        }
+    }
+}
+
+impl Ranged for Log10Axis {
+    type FormatOption = NoDefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        self.inner.map(value, limit)
+    }
+
+    fn key_points<Hint: KeyPointHint>(&self, hint: Hint) -> Vec<f64> {
+        if hint.weight().allow_light_points() {
+            Vec::new()
+        } else {
+            self.ticks.clone()
+        }
+    }
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.inner.range()
+    }
+}
+
+impl ValueFormatter<f64> for Log10Axis {
+    fn format_ext(&self, value: &f64) -> String {
+        decimal(10f64.powf(*value))
+    }
+}
+
+/// A logarithmic axis' tick label: `v` as a plain decimal with its significant digits only
+/// (0.5, 1, 20, 200).
+fn decimal(v: f64) -> String {
+    let digits = (2.0 - v.log10().floor()).clamp(0.0, 12.0) as usize;
+    let s = format!("{v:.digits$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
 }
 
 #[cfg(test)]

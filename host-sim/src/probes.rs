@@ -123,6 +123,20 @@ fn index(s: &str, prefix: &str, name: &str, limit: usize) -> Result<usize> {
     Ok(k - 1)
 }
 
+/// The SI unit of a probe or history column by its quantity (the name's ending): rotations
+/// rad, accelerations m/s², forces N, everything else (displacements, gaps) m.
+pub fn si_unit(name: &str) -> &'static str {
+    if name.ends_with("rx") {
+        "rad"
+    } else if name.ends_with("az") {
+        "m/s²"
+    } else if name.ends_with("force_z") {
+        "N"
+    } else {
+        "m"
+    }
+}
+
 /// Parses one probe name against the case's extent.
 pub fn parse(name: &str, e: &Extent) -> Result<Probe> {
     let alias = match name {

@@ -132,3 +132,29 @@ fn bad_input_gets_a_one_line_error_and_a_non_zero_exit() {
         assert!(out.stdout.is_empty(), "{args:?}: half-written output");
     }
 }
+
+/// The README's `maglev control` commands run as written on the trace the repo ships
+/// (host-sim/examples/data/gap.csv, 201 rows): exit 0, the header and one row per input row.
+#[test]
+fn the_readme_example_trace_runs() {
+    let trace = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/gap.csv");
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md")).unwrap();
+    assert!(readme.contains("control --trace host-sim/examples/data/gap.csv"));
+    for extra in [
+        ["--nsub", "10", "--scalar", "i4f28"],
+        ["--scheme", "accurate", "--nsub", "1"],
+    ] {
+        let mut args = vec!["control", "--trace", trace];
+        args.extend(extra);
+        let out = maglev(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(text.starts_with("t,h,"), "{text}");
+        assert_eq!(text.lines().count(), 1 + 201);
+    }
+}

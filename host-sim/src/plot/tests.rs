@@ -292,3 +292,53 @@ fn tick_labels() {
     assert_eq!(tick_label(36790.0, 1e5, 1e5), "3.68e4");
     assert_eq!(tick_label(2e-5, 1e-4, 1e-4), "2.00e-5");
 }
+
+/// A logarithmic x axis: the points 0.5 … 200 are placed by log10 (equal ratios, equal
+/// distances), the ticks are 0.5, 1, 2, 5, …, 200 labelled in the data's units, and x ≤ 0
+/// breaks the curve.
+#[test]
+fn a_log_x_axis_places_points_by_log10_with_1_2_5_ticks() {
+    let x = vec![0.5, 5.0, 50.0, 200.0];
+    let y = vec![1.0, 2.0, 3.0, 4.0];
+    let svg =
+        svg(&Plot::new("log", "f (Hz)", "L (dB)", vec![Series::new("a", x, y)]).log_x()).unwrap();
+    let p = &polylines(&svg)[0];
+    assert_eq!(p.len(), 4);
+    let (d1, d2) = (p[1].0 - p[0].0, p[2].0 - p[1].0);
+    assert!((d1 - d2).abs() <= 1.0, "{d1} vs {d2}");
+    for tick in ["0.5", "1", "2", "5", "10", "20", "50", "100", "200"] {
+        assert!(has_text(&svg, tick), "tick {tick}");
+    }
+    assert!(!has_text(&svg, "0.7") && !has_text(&svg, "-0.3"));
+    let broken = svg_of_log(vec![1.0, 0.0, 10.0, 100.0]);
+    assert_eq!(
+        polylines(&broken).len(),
+        1 + 2,
+        "two stretches and the legend swatch"
+    );
+}
+
+fn svg_of_log(x: Vec<f64>) -> String {
+    let y = vec![1.0; x.len()];
+    svg(&Plot::new("t", "x", "y", vec![Series::new("a", x, y)]).log_x()).unwrap()
+}
+
+/// Markers: one per point of every series (circles for the first, squares for the others)
+/// and one per legend entry; none without `markers()`.
+#[test]
+fn markers_are_drawn_at_every_point() {
+    let series = vec![
+        Series::new("a", vec![0.0, 1.0, 2.0], vec![1.0, 2.0, 3.0]),
+        Series::new("b", vec![0.0, 1.0, 2.0], vec![1.0, 2.0, 3.0]),
+    ];
+    let plain = svg(&Plot::new("m", "x", "y", series.clone())).unwrap();
+    assert_eq!(count(&plain, "circle"), 0);
+    let marked = svg(&Plot::new("m", "x", "y", series).markers()).unwrap();
+    assert_eq!(count(&marked, "circle"), 3 + 1);
+    let squares = marked
+        .split("<rect ")
+        .skip(1)
+        .filter(|r| r[..r.find("/>").expect("closed")].contains("stroke=\"#D62728\""))
+        .count();
+    assert_eq!(squares, 3 + 1);
+}

@@ -1,4 +1,7 @@
-//! Plots of a sweep: each quantity against the first axis, one line per value of the others.
+//! Plots of a sweep: each quantity against the first axis, one line per value of the others,
+//! a marker at every run (a sweep has few points, and a line alone hides where they are),
+//! each axis labelled with its unit: the quantity's from its probe's name
+//! ([`crate::probes::si_unit`]), the axis key's from the scenario key's unit suffix.
 //!
 //! [`draw`] is the only place the sweep calls the plot module (crate::plot, plotters);
 //! failed runs are NaN and leave a gap in their line.
@@ -7,6 +10,7 @@ use super::runs::Run;
 use super::spec::Spec;
 use super::store::{Record, Status};
 use crate::plot::{self as svg, Series};
+use crate::probes::si_unit;
 use crate::Result;
 use std::collections::BTreeMap;
 
@@ -23,7 +27,41 @@ pub fn draw(title: &str, xlabel: &str, ylabel: &str, lines: &[Line]) -> Result<S
         .iter()
         .map(|l| Series::new(l.label.clone(), l.x.clone(), l.y.clone()))
         .collect();
-    svg::lines(title, xlabel, ylabel, &series)
+    svg::svg(&svg::Plot::new(title, xlabel, ylabel, series).markers())
+}
+
+/// `name (unit)`, or `name` alone when `unit` is empty.
+fn with_unit(name: &str, unit: &str) -> String {
+    if unit.is_empty() {
+        name.to_string()
+    } else {
+        format!("{name} ({unit})")
+    }
+}
+
+/// The unit of a `--set` key from the unit suffix of the scenario key it names
+/// (`speed` → `run.speed_m_per_s` → m/s); empty for a key without one (seed, alpha).
+pub fn key_unit(key: &str) -> &'static str {
+    let full = crate::scenario::SHORT_KEYS
+        .iter()
+        .find(|(short, _)| *short == key)
+        .map_or(key, |(_, full)| full);
+    const SUFFIXES: [(&str, &str); 10] = [
+        ("_m_per_s", "m/s"),
+        ("_t_per_m3", "t/m³"),
+        ("_t_per_m", "t/m"),
+        ("_m4", "m⁴"),
+        ("_m2", "m²"),
+        ("_ohm", "Ω"),
+        ("_hz", "Hz"),
+        ("_m", "m"),
+        ("_s", "s"),
+        ("_t", "t"),
+    ];
+    SUFFIXES
+        .iter()
+        .find(|(suffix, _)| full.ends_with(suffix))
+        .map_or("", |(_, unit)| unit)
 }
 
 /// The file name of quantity `name`'s plot (`peak:midspan_z` → `peak_midspan_z.svg`).
@@ -74,7 +112,7 @@ pub fn plots(
         }
     };
     let xlabel = if numeric {
-        first.key.clone()
+        with_unit(&first.key, key_unit(&first.key))
     } else {
         format!("{} (index of its values)", first.key)
     };
@@ -105,8 +143,35 @@ pub fn plots(
             let title = format!("{} — {} against {}", spec.scenario, q.name(), first.key);
             Ok((
                 file_name(&q.name()),
-                draw(&title, &xlabel, &q.name(), &lines)?,
+                draw(
+                    &title,
+                    &xlabel,
+                    &with_unit(&q.name(), si_unit(&q.probe)),
+                    &lines,
+                )?,
             ))
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Units from the scenario keys' suffixes, through the short keys; none for a key without
+    /// one.
+    #[test]
+    fn key_units_come_from_the_scenario_key_names() {
+        assert_eq!(key_unit("speed"), "m/s");
+        assert_eq!(key_unit("dt"), "s");
+        assert_eq!(key_unit("t_end"), "s");
+        assert_eq!(key_unit("bridge.pier.height_m"), "m");
+        assert_eq!(key_unit("seed"), "");
+        assert_eq!(key_unit("alpha"), "");
+        assert_eq!(
+            with_unit("peak:midspan_z", si_unit("midspan_z")),
+            "peak:midspan_z (m)"
+        );
+        assert_eq!(si_unit("car4.body.az"), "m/s²");
+    }
 }
