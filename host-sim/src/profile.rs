@@ -99,10 +99,11 @@ pub fn sweep<E>(
 ///
 /// # Why not a plain FFT
 /// A plain inverse FFT gives Σ_k c_k e^{2πi k m/P}: it needs the frequency step times the
-/// grid step to be 1/P for an integer P. Here the step is Δf·h = Δω·h/(2π) (Eq. 4), e.g.
-/// 6.18/2000 rad/m · 5 mm / 2π = 2.459e-6 turns: an irrational number (it has π in its
-/// denominator), so no FFT length puts Table 1's frequencies on its grid, and moving them
-/// (or the grid) would change the profile. The chirp-z transform (Bluestein 1970, Rabiner,
+/// grid step to be 1/P for an integer P (and the lowest frequency on that grid too). Here the
+/// step is Δf·h = Δω·h/(2π) (Eq. 4): 6.18/2000 rad/m · 5 mm / 2π = 1/406 678.66…, irrational
+/// in exact arithmetic (π in its denominator; the stored f64 values are dyadic fractions with
+/// denominators beyond 2⁶⁰), so no usable FFT length puts Table 1's frequencies on its grid,
+/// and moving them (or the grid) would change the profile. The chirp-z transform (Bluestein 1970, Rabiner,
 /// Schafer & Rader 1969) evaluates Σ_k c_k W^{km} for any W on the unit circle exactly, up to
 /// round-off, through k·m = (k² + m² − (m − k)²)/2.
 ///
