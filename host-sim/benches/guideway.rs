@@ -1,4 +1,4 @@
-//! The FE guideway solver (docs/performance.md, "Guideway solver"), driven directly with
+//! The FE guideway solver (docs/performance.md, "Benches"), driven directly with
 //! point loads:
 //!
 //! - `step/moving-force/e=<n>`: one step (solve, commit, a midspan and an under-load query)

@@ -17,7 +17,6 @@ use crate::profile::Profile;
 use crate::scenario::Model;
 use crate::simulation::{couple, initial_gaps, Load, Outcome, Profiles, Settings};
 use crate::{Error, Result};
-use maglev_core::irregularity::Direction;
 use std::time::Instant;
 
 /// A guideway that never moves: `z_g = y_g = θ = 0` everywhere (`run.model = "rigid"`). The
@@ -179,9 +178,7 @@ fn profiles_for(case: &Case, load: &Load) -> Result<Profiles> {
     let x0s = x0s.iter().copied();
     let x_min = x0s.clone().fold(f64::INFINITY, f64::min) - 1.0;
     let x_max = x0s.fold(f64::NEG_INFINITY, f64::max) + case.speed * case.t_end + 1.0;
-    let table = |d| Profile::table1(d, seed, x_min, x_max);
-    let y = table(Direction::Y)?;
-    let z = table(Direction::Z)?;
+    let (y, z) = Profile::table1_y_z(seed, x_min, x_max)?;
     Ok(Profiles {
         y: Box::new(move |x| y.at(x)),
         z: Box::new(move |x| z.at(x)),

@@ -41,7 +41,8 @@ fn csv_matches_core_profile() {
         assert_eq!(x, j as f64 * 0.25);
         let mut ov = false;
         let want = g.eval(x, &mut ov);
-        // The CLI sums by a re-anchored rotation recurrence: ≤ 1e-12 of the profile scale.
+        // The CLI sums by the chirp-z transform (round-off, `profile::Synthesis`): ≤ 1e-12 of
+        // the profile scale.
         assert!((r - want).abs() <= 1e-12 * 5e-3, "x={x}: {r} vs {want}");
         rows += 1;
     }

@@ -3,7 +3,6 @@
 //! contacts, over a rigid rail, one simply supported span and the paper-5 viaduct.
 
 use maglev_core::gap::Geometry;
-use maglev_core::irregularity::Direction;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::{LawKind, Params};
 use maglev_host_sim::cars::fig6::Fig6;
@@ -58,8 +57,7 @@ fn gap_loop(geometry: Geometry) -> LawKind {
 
 /// The paper's Table 1 irregularity from x = −60 m over `length` (m), vertical and lateral.
 fn table1(length: f64) -> Profiles {
-    let y = Profile::table1(Direction::Y, 7, -60.0, length).unwrap();
-    let z = Profile::table1(Direction::Z, 7, -60.0, length).unwrap();
+    let (y, z) = Profile::table1_y_z(7, -60.0, length).unwrap();
     Profiles {
         y: Box::new(move |x| y.at(x)),
         z: Box::new(move |x| z.at(x)),

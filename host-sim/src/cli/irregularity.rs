@@ -2,10 +2,9 @@
 //!
 //! The profile is `maglev_core::irregularity::Irregularity<f64>`; the phases depend only on
 //! `--seed` and `--direction` (see the core module docs), so the CSV is reproducible on any
-//! machine. Evaluating the 2000-term sum with one cosine per term and sample would take
-//! several seconds for a 26 km profile, so `profile::sweep` evaluates the same direct sum on
-//! the uniform grid with a complex rotation per term and sample, re-anchored exactly (see
-//! there for the accuracy).
+//! machine (to round-off). Evaluating the 2000-term sum with one cosine per term and sample
+//! would take minutes for a 26 km profile, so `profile::sweep` evaluates the same direct sum
+//! on the uniform grid by the chirp-z transform (see there for the accuracy).
 
 use std::io::Write;
 
