@@ -183,6 +183,12 @@ impl Case {
             ));
         }
         let law = law(&sc, &train, controller.as_ref(), geometry, dt)?;
+        check_budget(&Budget {
+            steps: steps.round() + 1.0,
+            train: &train,
+            sub_steps: controller.as_ref().map_or(0.0, |p| sub_steps(p, &law, dt)),
+            columns: sc.output.as_ref().map_or(0, |o| o.probes.len()),
+        })?;
         let irregularity_seed = sc
             .irregularity
             .as_ref()
@@ -577,7 +583,7 @@ fn viaduct(b: &BridgeSection, girders: &Bridge, elements: usize) -> Result<Optio
             polar_mass: None,
         },
         height: positive("bridge.pier.height_m", p.height_m)?,
-        elements: bounded("bridge.pier.elements", p.elements, 1, 1000)?,
+        elements: bounded("bridge.pier.elements", p.elements, 1, MAX_PIER_ELEMENTS)?,
         cap_mass: non_negative("bridge.pier.cap_mass_t", p.cap_mass_t)? * 1e3,
     };
     let so = b.soil.as_ref().ok_or_else(|| need("soil"))?;
@@ -654,6 +660,106 @@ pub fn check_fe_size(b: &Bridge, elements: usize, dt: f64) -> Result<()> {
                 ),
             ));
         }
+    }
+    Ok(())
+}
+
+/// The most elements a pier may have. The viaduct's set-up grows faster than linearly in
+/// them (measured on paper-5: 50 elements 0.19 GB and 0.7 s, 100: 0.54 GB and 3.4 s, 200:
+/// 1.2 GB and 15 s; 1000 asked for 14 GB); 4 already give the pier's first modes
+/// (docs/viaduct.md).
+pub const MAX_PIER_ELEMENTS: usize = 100;
+
+/// The most memory a case may ask of its run's per-step records (bytes): 4 GiB, a quarter of a
+/// 16 GiB workstation; every bundled case needs under 0.1 GiB.
+pub const MAX_RECORD_BYTES: f64 = 4.0 * 1024.0 * 1024.0 * 1024.0;
+
+/// The most magnet law sub-steps a run may take (steps × magnets × sub-steps per update):
+/// at about 30 ns a sub-step, 10¹¹ is close to an hour; the paper's n_sub = 1000 passage at
+/// 10 m/s needs 5·10⁷.
+pub const MAX_SUB_STEPS: f64 = 1e11;
+
+/// What a run will record and compute per step, known before anything is allocated.
+struct Budget<'a> {
+    /// Time steps, the t = 0 row included.
+    steps: f64,
+    train: &'a TrainCase,
+    /// Law sub-steps per magnet update (0 without magnets).
+    sub_steps: f64,
+    /// Columns `output.probes` asks for (0: the default seven).
+    columns: usize,
+}
+
+/// The train's size key, its wheels and contacts (rail points recorded per step), and its
+/// magnets.
+fn train_size(t: &TrainCase) -> (&'static str, f64, f64) {
+    match t {
+        TrainCase::Fig1 { cars, .. } => ("train.repeat", 4.0 * *cars as f64, 12.0 * *cars as f64),
+        TrainCase::Maglev { nodes, .. } => ("train.cars", *nodes as f64, 3.0 * *nodes as f64),
+        TrainCase::WheelRail { nodes, .. } => ("train.cars", *nodes as f64, 0.0),
+        TrainCase::Forces(_) => ("train.loads_kN", 0.0, 0.0),
+    }
+}
+
+/// Sub-steps of one magnet update: the state law's control periods, else the paper scheme's
+/// `n_sub` or the accurate scheme's Gauss intervals
+/// (`maglev_core::levitation::accurate::intervals` at the case's step).
+fn sub_steps(p: &Params, law: &LawKind, dt: f64) -> f64 {
+    if let LawKind::State(s) = law {
+        return s.periods(dt) as f64;
+    }
+    match p.scheme {
+        maglev_core::Scheme::Paper => p.n_sub as f64,
+        maglev_core::Scheme::Accurate => {
+            maglev_core::levitation::accurate::intervals(&Params { dt, ..*p }) as f64
+        }
+    }
+}
+
+/// Refuses a case whose per-step records or law work exceed the limits, naming the keys that
+/// make them large: the rail under every wheel and contact (24 bytes a point a step, the
+/// profile the run writes), response.csv's rows (read back whole for the summary, about 24
+/// bytes a cell), and the magnets' law sub-steps.
+fn check_budget(b: &Budget) -> Result<()> {
+    let (size_key, points, magnets) = train_size(b.train);
+    let gib = |x: f64| x / (1024.0 * 1024.0 * 1024.0);
+    let rail = b.steps * points * 24.0;
+    if rail > MAX_RECORD_BYTES {
+        return Err(Error::invalid(
+            format!("{size_key} (with run.t_end_s)"),
+            format!(
+                "the run would record the rail under {points} wheels and contacts for {} steps: \
+                 {:.1} GiB, above the limit of {:.0} GiB",
+                b.steps,
+                gib(rail),
+                gib(MAX_RECORD_BYTES)
+            ),
+        ));
+    }
+    let rows = b.steps * (b.columns.max(7) + 3) as f64 * 24.0;
+    if rows > MAX_RECORD_BYTES {
+        return Err(Error::invalid(
+            "output.probes (with run.t_end_s)",
+            format!(
+                "{} columns for {} steps make a response.csv of about {:.1} GiB, above the \
+                 limit of {:.0} GiB",
+                b.columns,
+                b.steps,
+                gib(rows),
+                gib(MAX_RECORD_BYTES)
+            ),
+        ));
+    }
+    let work = b.steps * magnets * b.sub_steps;
+    if work > MAX_SUB_STEPS {
+        return Err(Error::invalid(
+            "controller.nsub (or controller.state.rate_Hz; with run.t_end_s and the train's size)",
+            format!(
+                "{} steps × {magnets} magnets × {} sub-steps = {work:.1e} law sub-steps, above \
+                 the limit of {MAX_SUB_STEPS:.0e} (about an hour)",
+                b.steps, b.sub_steps
+            ),
+        ));
     }
     Ok(())
 }
@@ -1031,6 +1137,42 @@ mod tests {
     }
 
     /// Every bad value is refused with the key that holds it; nothing is allocated first.
+    #[test]
+    fn oversized_runs_are_refused_before_they_allocate() {
+        let refused = |sets: &[&str], key: &str| {
+            let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+            match Case::load("paper-4.2", &sets) {
+                Ok(_) => panic!("accepted: {}", sets[0].len().min(80)),
+                Err(e) => assert!(e.to_string().contains(key), "{e}"),
+            }
+        };
+        // 1000 cars 15 m apart: 4000 wheels for 150 k steps, 14.4 GB of rail record.
+        refused(
+            &[
+                "vehicle.repeat=1000",
+                "vehicle.car_length_m=15",
+                "speed=100",
+            ],
+            "train.repeat",
+        );
+        // 4·10⁹ sub-steps a magnet update.
+        refused(&["nsub=4000000000"], "controller.nsub");
+        // 2·10⁴ columns for 10⁴ steps: 4.8 GB of response.csv.
+        let probes: Vec<String> = (0..20_000).map(|_| "\"wheel1.z\"".to_string()).collect();
+        refused(
+            &[&format!("output.probes=[{}]", probes.join(",")), "t_end=10"],
+            "output.probes",
+        );
+        match Case::load("paper-5", &["bridge.pier.elements=1000".into()]) {
+            Ok(_) => panic!("1000 pier elements accepted"),
+            Err(e) => assert!(e.to_string().contains("bridge.pier.elements"), "{e}"),
+        }
+        // The bundled cases are far inside every limit.
+        for (name, _) in crate::scenario::BUNDLED {
+            Case::load(name, &[]).unwrap();
+        }
+    }
+
     #[test]
     fn bad_values_name_their_key() {
         for (set, key) in [
