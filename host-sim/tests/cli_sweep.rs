@@ -366,3 +366,17 @@ fn bad_specs_exit_2_with_one_line_naming_the_key() {
     ]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// `--jobs` beyond the limit is one line naming it (10 000 threads stalled the machine), and
+/// nothing is written.
+#[test]
+fn too_many_jobs_are_refused() {
+    let dir = scratch("jobs");
+    let sp = spec(&dir, ISSUE);
+    let out = dir.join("out");
+    let o = maglev(&["sweep", s(&sp), "--jobs", "10000", "--out", s(&out)]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("--jobs") && e.contains("256"), "{e}");
+    assert!(!out.exists());
+}

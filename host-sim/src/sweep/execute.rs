@@ -121,14 +121,21 @@ fn failed(run: &Run, error: String, wall_s: f64) -> Record {
     }
 }
 
+/// The most runs a sweep runs at once: each is a whole simulation with its own memory, so
+/// jobs beyond the cores only add memory and threads (10 000 threads stalled the machine).
+pub const MAX_JOBS: usize = 256;
+
 /// Runs the sweep `spec` into directory `out`: the runs of `opts.shard` (or all) that have no
 /// record yet, then rebuilds results.csv, costs.csv and the plots from every record of the
 /// share. An error is returned only for what stops the whole sweep (a bad spec, a base
 /// scenario that does not load, an unwritable directory).
 pub fn sweep(spec: &Spec, out: &Path, opts: &Options) -> Result<Report> {
     let start = Instant::now();
-    if opts.jobs == 0 {
-        return Err(Error::invalid("--jobs", "must be at least 1, got 0"));
+    if !(1..=MAX_JOBS).contains(&opts.jobs) {
+        return Err(Error::invalid(
+            "--jobs",
+            format!("must be between 1 and {MAX_JOBS}, got {}", opts.jobs),
+        ));
     }
     // The spec's base case and its probes must be sound before any run starts, and so must
     // every axis key and the type of every axis value: a misspelt key would fail every run

@@ -244,8 +244,10 @@ impl Spec {
             if values.is_empty() {
                 return Err(Error::invalid(name, "must hold at least one value"));
             }
-            for (i, v) in values.iter().enumerate() {
-                if values[..i].contains(v) {
+            // Distinct by their TOML text (what `--set` is given): linear in the axis's length.
+            let mut seen = std::collections::HashSet::with_capacity(values.len());
+            for v in &values {
+                if !seen.insert(v.toml()) {
                     return Err(Error::invalid(
                         name,
                         format!(
