@@ -1004,9 +1004,32 @@ fn controller(sc: &Scenario, dt: f64) -> Result<Params> {
         v_max: c.vmax_V,
         scheme: c.scheme,
     };
-    p.validate()
-        .map_err(|e| Error::invalid("controller", e.to_string()))?;
+    p.validate().map_err(controller_error)?;
     Ok(p)
+}
+
+/// A core parameter error under the scenario key that holds the value (the core names its
+/// parameters `i0`, `n_sub`, `v_max`, …).
+fn controller_error(e: maglev_core::ParamError) -> Error {
+    use maglev_core::ParamError as P;
+    let name = match e {
+        P::NotFinite(n) | P::NotPositive(n) | P::Negative(n) => n,
+        P::AlphaOutOfRange => "alpha",
+        P::Unrepresentable { name, .. } => name,
+    };
+    let key = match name {
+        "i0" => "controller.i0_A",
+        "h0" => "controller.h0_m",
+        "r0" => "controller.r0_ohm",
+        "kp" => "controller.kp_V_m_per_A",
+        "ki" => "controller.ki_V_m_per_A_s",
+        "alpha" => "controller.alpha",
+        "n_sub" => "controller.nsub",
+        "v_max" => "controller.vmax_V",
+        "dt" => "run.dt_s",
+        _ => "controller",
+    };
+    Error::invalid(key, e.to_string())
 }
 
 /// The levitation law (`controller.law`); the paper's without a controller section.
@@ -1192,8 +1215,11 @@ mod tests {
             ("vehicle.repeat=1001", "train.repeat"),
             ("bridge.iy_m4=0", "bridge.iy_m4"),
             ("bridge.spans_m=[]", "bridge.spans_m"),
-            ("controller.alpha=2", "controller"),
-            ("controller.i0_A=nan", "controller"),
+            ("controller.alpha=2", "controller.alpha"),
+            ("controller.i0_A=nan", "controller.i0_A"),
+            ("controller.nsub=0", "controller.nsub"),
+            ("controller.vmax_V=-1", "controller.vmax_V"),
+            ("controller.r0_ohm=0", "controller.r0_ohm"),
         ] {
             let e = Case::load("paper-4.2", &[set.into()]).unwrap_err();
             let m = e.to_string();
