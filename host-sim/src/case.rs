@@ -767,7 +767,7 @@ fn check_budget(b: &Budget) -> Result<()> {
 /// The vehicle section in SI, and the magnets' geometry.
 fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
     match v {
-        VehicleSection::Fig1 {
+        VehicleSection::Fig1(scenario::Fig1Keys {
             body_mass_t,
             jx_t_m2,
             jy_t_m2,
@@ -783,7 +783,7 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
             geometry,
             repeat,
             car_length_m,
-        } => {
+        }) => {
             let kilo = |key: &str, v: f64| positive(key, v).map(|v| v * 1e3);
             if !(*wheel_mass_kg >= 0.0 && wheel_mass_kg.is_finite()) {
                 return Err(Error::invalid(
@@ -837,7 +837,7 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
                 *geometry,
             ))
         }
-        VehicleSection::Maglev { cars, geometry } => {
+        VehicleSection::Maglev(scenario::MaglevKeys { cars, geometry }) => {
             bounded("train.cars", *cars, 1, MAX_CARS)?;
             let (nodes, length) = extent_of(&Train::fig6(*cars, GRAVITY)?);
             Ok((
@@ -849,7 +849,7 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
                 *geometry,
             ))
         }
-        VehicleSection::WheelRail { cars } => {
+        VehicleSection::WheelRail(scenario::WheelRailKeys { cars }) => {
             bounded("train.cars", *cars, 1, MAX_CARS)?;
             let (nodes, length) = extent_of(&Train::wheel_rail(*cars, GRAVITY)?);
             Ok((
@@ -861,11 +861,11 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
                 Geometry::Paper,
             ))
         }
-        VehicleSection::MovingForce {
+        VehicleSection::MovingForce(scenario::MovingForceKeys {
             force_kN,
             offset_y_m,
             offset_z_m,
-        } => Ok((
+        }) => Ok((
             TrainCase::Forces(vec![MovingLoad {
                 x0: 0.0,
                 force: finite("vehicle.force_kN", *force_kN)? * 1e3,
@@ -874,14 +874,14 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
             }]),
             Geometry::Paper,
         )),
-        VehicleSection::Forces {
+        VehicleSection::Forces(scenario::ForcesKeys {
             loads_kN,
             offsets_m,
             repeat,
             car_length_m,
             offset_y_m,
             offset_z_m,
-        } => Ok((
+        }) => Ok((
             TrainCase::Forces(forces(
                 loads_kN,
                 offsets_m,

@@ -163,69 +163,134 @@ pub struct SoilSection {
     pub poisson: f64,
 }
 
-#[derive(Deserialize, Serialize, Debug, Clone)]
-#[serde(deny_unknown_fields, tag = "kind", rename_all = "kebab-case")]
-#[allow(non_snake_case)]
+/// `[vehicle]` / `[train]`: what runs over the guideway, by `kind`. Each kind's keys are a
+/// struct of their own, read after the tag ([`VehicleSection::from_table`]), so a wrong value
+/// is named by its key (`vehicle.body_mass_t`), not only by the section.
+#[derive(Serialize, Debug, Clone)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum VehicleSection {
-    Fig1 {
-        body_mass_t: f64,
-        jx_t_m2: f64,
-        jy_t_m2: f64,
-        jz_t_m2: f64,
-        spring_kN_per_m: f64,
-        damper_kN_s_per_m: f64,
-        half_length_m: f64,
-        half_width_m: f64,
-        offset_y_m: f64,
-        target_height_m: f64,
-        body_height_m: f64,
-        wheel_mass_kg: f64,
-        /// How the magnets face their rails (docs/model.md §2); default `paper`.
-        #[serde(default)]
-        geometry: Geometry,
-        /// Identical cars, one behind the other (default 1).
-        #[serde(default = "one")]
-        repeat: usize,
-        /// Spacing of the repeated cars, leading wheel to leading wheel (m); needed when
-        /// `repeat > 1`, at least the wheelbase `2·half_length_m`.
-        car_length_m: Option<f64>,
-    },
-    MovingForce {
-        force_kN: f64,
-        offset_y_m: f64,
-        offset_z_m: f64,
-    },
+    Fig1(Fig1Keys),
+    MovingForce(MovingForceKeys),
     /// The paper's §5 maglev train: `cars` Fig. 6 carriages at their pitch (docs/cars.md),
     /// every magnet with its own controller (`[controller]`).
-    Maglev {
-        #[serde(default = "twelve")]
-        cars: usize,
-        /// How the magnets face their rails (docs/model.md §2); default `paper`.
-        #[serde(default)]
-        geometry: Geometry,
-    },
+    Maglev(MaglevKeys),
     /// The paper's §5 wheel/rail train: `cars` cars of 25 m on Hertz contacts (docs/cars.md).
-    WheelRail {
-        #[serde(default = "twelve")]
-        cars: usize,
-    },
+    WheelRail(WheelRailKeys),
     /// Constant vertical moving loads (`[train] kind = "forces"`): one car's loads, repeated.
-    Forces {
-        /// One car's loads (kN, downward).
-        loads_kN: Vec<f64>,
-        /// Each load's distance behind the car's leading load (m).
-        offsets_m: Vec<f64>,
-        /// Identical cars, one behind the other (default 1).
-        #[serde(default = "one")]
-        repeat: usize,
-        /// Spacing of the repeated cars (m); needed when `repeat > 1`.
-        car_length_m: Option<f64>,
-        /// Offset of the loads from the beam axis, Y and Z (m); default on the axis.
-        #[serde(default)]
-        offset_y_m: f64,
-        #[serde(default)]
-        offset_z_m: f64,
-    },
+    Forces(ForcesKeys),
+}
+
+/// `kind = "fig1"`: the Fig. 1 car (docs/model.md §5).
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct Fig1Keys {
+    pub body_mass_t: f64,
+    pub jx_t_m2: f64,
+    pub jy_t_m2: f64,
+    pub jz_t_m2: f64,
+    pub spring_kN_per_m: f64,
+    pub damper_kN_s_per_m: f64,
+    pub half_length_m: f64,
+    pub half_width_m: f64,
+    pub offset_y_m: f64,
+    pub target_height_m: f64,
+    pub body_height_m: f64,
+    pub wheel_mass_kg: f64,
+    /// How the magnets face their rails (docs/model.md §2); default `paper`.
+    #[serde(default)]
+    pub geometry: Geometry,
+    /// Identical cars, one behind the other (default 1).
+    #[serde(default = "one")]
+    pub repeat: usize,
+    /// Spacing of the repeated cars, leading wheel to leading wheel (m); needed when
+    /// `repeat > 1`, at least the wheelbase `2·half_length_m`.
+    pub car_length_m: Option<f64>,
+}
+
+/// `kind = "moving-force"`: one constant vertical force.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct MovingForceKeys {
+    pub force_kN: f64,
+    pub offset_y_m: f64,
+    pub offset_z_m: f64,
+}
+
+/// `kind = "maglev"`.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct MaglevKeys {
+    #[serde(default = "twelve")]
+    pub cars: usize,
+    /// How the magnets face their rails (docs/model.md §2); default `paper`.
+    #[serde(default)]
+    pub geometry: Geometry,
+}
+
+/// `kind = "wheel-rail"`.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct WheelRailKeys {
+    #[serde(default = "twelve")]
+    pub cars: usize,
+}
+
+/// `kind = "forces"`.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct ForcesKeys {
+    /// One car's loads (kN, downward).
+    pub loads_kN: Vec<f64>,
+    /// Each load's distance behind the car's leading load (m).
+    pub offsets_m: Vec<f64>,
+    /// Identical cars, one behind the other (default 1).
+    #[serde(default = "one")]
+    pub repeat: usize,
+    /// Spacing of the repeated cars (m); needed when `repeat > 1`.
+    pub car_length_m: Option<f64>,
+    /// Offset of the loads from the beam axis, Y and Z (m); default on the axis.
+    #[serde(default)]
+    pub offset_y_m: f64,
+    #[serde(default)]
+    pub offset_z_m: f64,
+}
+
+/// The `kind` words, in the enum's order.
+const VEHICLE_KINDS: &[&str] = &["fig1", "moving-force", "maglev", "wheel-rail", "forces"];
+
+impl VehicleSection {
+    /// The section from its table: the `kind` tag, then that kind's keys, each error naming
+    /// the key it is about (`invalid type: … in `body_mass_t``).
+    fn from_table(mut t: toml::Table) -> std::result::Result<Self, String> {
+        use serde::de::Error as _;
+        let kind = match t.remove("kind") {
+            Some(toml::Value::String(k)) => k,
+            Some(other) => return Err(format!("kind: expected a string, got {other}")),
+            None => return Err(toml::de::Error::missing_field("kind").to_string()),
+        };
+        // toml's own deserializer names the key of a wrong value ("… in `body_mass_t`").
+        fn keys<T: serde::de::DeserializeOwned>(t: toml::Table) -> std::result::Result<T, String> {
+            T::deserialize(toml::Value::Table(t)).map_err(|e| e.to_string())
+        }
+        Ok(match kind.as_str() {
+            "fig1" => VehicleSection::Fig1(keys(t)?),
+            "moving-force" => VehicleSection::MovingForce(keys(t)?),
+            "maglev" => VehicleSection::Maglev(keys(t)?),
+            "wheel-rail" => VehicleSection::WheelRail(keys(t)?),
+            "forces" => VehicleSection::Forces(keys(t)?),
+            other => return Err(toml::de::Error::unknown_variant(other, VEHICLE_KINDS).to_string()),
+        })
+    }
+}
+
+impl<'de> Deserialize<'de> for VehicleSection {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let table = toml::Table::deserialize(d)?;
+        VehicleSection::from_table(table).map_err(serde::de::Error::custom)
+    }
 }
 
 fn one() -> usize {
@@ -440,5 +505,27 @@ mod tests {
         }
         let e = load("nonexistent-scenario", &[]).unwrap_err().to_string();
         assert!(e.contains("paper-4.2"), "{e}");
+    }
+
+    /// A wrong value inside the tagged `[vehicle]` / `[train]` section is named by its key, as
+    /// in every other section (serde's internally tagged enums lose it: "in `vehicle`" only).
+    #[test]
+    fn a_wrong_vehicle_value_in_a_file_names_its_key() {
+        for (name, text) in BUNDLED {
+            let (key, bad) = match name {
+                "paper-4.2" => ("body_mass_t", "body_mass_t = \"x\""),
+                "paper-5" => ("cars", "cars = -3"),
+                "train-forces" => ("loads_kN", "loads_kN = 5"),
+                _ => ("force_kN", "force_kN = [1]"),
+            };
+            let line = text
+                .lines()
+                .find(|l| l.starts_with(&format!("{key} ")))
+                .unwrap_or_else(|| panic!("{name} has no {key} line"));
+            let e = parse(&text.replace(line, bad), name, &[])
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(&format!("`{key}`")), "{name}: {e}");
+        }
     }
 }
