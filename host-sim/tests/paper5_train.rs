@@ -483,3 +483,112 @@ fn timing_of_12_car_trains_over_35_spans() {
         );
     }
 }
+
+// ------------------------------------------------------- the start on the paper-5 rough rail
+
+/// Issue #25: the paper-5 wheel/rail train (12 cars, the Table 1 irregularity of seed 1 as
+/// the scenario builds it) starts in static equilibrium on its rough rail, on a rigid
+/// guideway (so the rail's roughness is the only input).
+///
+/// At t = 0 every contact force is its static load P0, and consistent with the car's state:
+/// P = P0 − k·(z_w + r_z(x0)). In this car both rails share r_z and the car is statically
+/// determinate in the vertical plane (two axles per bogie on its heave and pitch, two bogies
+/// on the body's), so the rough rail moves the car but redistributes no load: P = P0 up to
+/// the solve's round-off, k·|δz_w| with |δz_w| ≤ cond(K)·ε·|z_w| (backward-stable Cholesky;
+/// a factor 10 for the few operations around it).
+///
+/// The first step from rest at q0 (v = a = 0, K q0 = f0) is u1 = q0 + Keff⁻¹·Δf, Δf the change
+/// of the contacts' forcing, −k·Δr_z on each contact DOF (Δr_z the irregularity's change under
+/// the contact over v·Δt). Keff = K + 4M/Δt² + 2C/Δt ⪰ 4M/Δt², so
+/// ‖Δz‖₂ ≤ Δt²/(4·λmin(M))·k·‖Δr_z‖₂ over the car, and each contact force changes by
+/// |ΔP_j| = k·|Δz_wj + Δr_zj| ≤ k·(|Δr_zj| + ‖Δz‖₂). On today's code (the car at its
+/// smooth-rail position) the first step jumps by about k·r_z(x0) instead, 270 kN at wheel 1.
+#[test]
+fn paper5_wheel_rail_train_starts_at_its_static_axle_loads_on_the_rough_rail() {
+    use maglev_host_sim::case::Case;
+    use maglev_host_sim::setup::Passage;
+    let case = Case::load("paper-5", &["train=wheel-rail".into(), "t_end=0.02".into()]).unwrap();
+    let p = Passage::new(&case).unwrap();
+    let Load::Vehicle(train) = &p.load else {
+        panic!("paper-5 wheel-rail is a train")
+    };
+    assert_eq!((train.cars.len(), train.contacts.len()), (12, 96));
+    let nc = train.contacts.len();
+    let mut probes = Vec::new();
+    for wheel in 0..nc {
+        probes.push(Probe::Wheel {
+            wheel,
+            q: WheelQ::ForceZ,
+        });
+        probes.push(Probe::Wheel {
+            wheel,
+            q: WheelQ::Z,
+        });
+    }
+    let mut rec = collect(probes);
+    let dt = p.settings.dt;
+    let out = simulate(
+        &mut RigidGuideway::new(dt),
+        &p.load,
+        &p.profiles,
+        &p.settings,
+        &mut rec,
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(out.unconverged_steps, 0);
+    let car = &train.cars[0];
+    let eps = f64::EPSILON;
+    let eig = |m: &nalgebra::DMatrix<f64>| m.clone().symmetric_eigen().eigenvalues;
+    let kr = eig(&car.k_on_rigid_rail());
+    let cond = kr.max() / kr.min();
+    let lambda_m = eig(&car.m).min();
+    let rz = |x: f64| (p.profiles.z)(x);
+    let (r0, r1) = (&rec.rows[0], &rec.rows[1]);
+    let (mut worst0, mut worst1, mut worst_ratio) = (0.0f64, 0.0f64, 0.0f64);
+    let mut first = Vec::new();
+    for (ci, _) in train.cars.iter().enumerate() {
+        let mine: Vec<usize> = (0..nc).filter(|&j| train.contacts[j].car == ci).collect();
+        let dr: Vec<f64> = mine
+            .iter()
+            .map(|&j| {
+                let x0 = train.contacts[j].x0;
+                rz(x0 + p.settings.speed * dt) - rz(x0)
+            })
+            .collect();
+        let dr_norm = dr.iter().map(|d| d * d).sum::<f64>().sqrt();
+        for (&j, d) in mine.iter().zip(&dr) {
+            let c = &train.contacts[j];
+            let (f0, z0) = (r0[2 * j], r0[2 * j + 1]);
+            // t = 0: the static load, and the force the car's state gives.
+            let tol0 = 10.0 * cond * eps * c.k * z0.abs().max(rz(c.x0).abs()) + 4.0 * eps * c.p0;
+            let from_state = c.p0 - c.k * (z0 + rz(c.x0));
+            assert!(
+                (f0 - c.p0).abs() <= tol0 && (from_state - c.p0).abs() <= tol0,
+                "contact {}: P(0) {f0} N, from the state {from_state} N, P0 {} N, tol {tol0:e}",
+                j + 1,
+                c.p0
+            );
+            worst0 = worst0.max((f0 - c.p0).abs().max((from_state - c.p0).abs()));
+            // The first step: the rail's roughness under it, and nothing more.
+            let dz_bound = dt * dt / (4.0 * lambda_m) * c.k * dr_norm;
+            let tol1 = c.k * (d.abs() + dz_bound);
+            let df = (r1[2 * j] - f0).abs();
+            assert!(
+                df <= tol1,
+                "contact {}: first step changes P by {df:.1} N > {tol1:.1} N",
+                j + 1
+            );
+            worst1 = worst1.max(df);
+            worst_ratio = worst_ratio.max(df / tol1);
+            if j < 8 {
+                first.push((r0[2 * j], r1[2 * j], rec.rows[10][2 * j]));
+            }
+        }
+    }
+    println!(
+        "cond(K) {cond:.2e}, λmin(M) {lambda_m:.1} kg; max |P(0) − P0| {worst0:.2e} N; \
+         max first-step change {worst1:.3e} N, at most {worst_ratio:.3} of its bound"
+    );
+    println!("car 1's contacts: (P at t = 0, Δt, 10Δt) N: {first:.1?}");
+}
