@@ -592,3 +592,108 @@ fn paper5_wheel_rail_train_starts_at_its_static_axle_loads_on_the_rough_rail() {
     );
     println!("car 1's contacts: (P at t = 0, Δt, 10Δt) N: {first:.1?}");
 }
+
+/// A statically indeterminate car: a rigid beam (heave, pitch) on three wheels 5 m apart,
+/// each on a stiff primary spring (1e8 N/m) and a contact spring (1e9 N/m). The middle
+/// contact starts over a 3 mm dip. On three supports that dip unloads the middle one by
+/// (2/3)·k_s·d = 1.8e5 N (k_s the two springs in series), more than its 1.08e5 N static
+/// load. So the car starts on its two end wheels: the middle force 0, the ends W/2 each (the
+/// hanging middle wheel's weight goes to the body), the car at rest. While the rail under
+/// every contact stays as it was (10 m/s for 0.1 s: the dip spans ±2 m), nothing moves: the
+/// middle force stays 0 and the others at W/2 within what the loop's lift-off correction
+/// leaves. The loop stops when that correction changes by at most k·tolerance (1 N here)
+/// between passes; with the clamp's contraction factor ρ = k·H_ww ≈ k/(k + k_p + 4m_w/Δt²) = 0.47 ≤ 1/2, its
+/// remainder is at most ρ/(1 − ρ) ≤ 1 times that, so the car meets a force error of at most
+/// 2·k·tolerance, and the end wheels' forces stay within it. Every step is a lift-off.
+/// (The paper-5 car cannot start lifted off: both rails share r_z and it is statically
+/// determinate in the vertical plane, docs/cars.md.)
+#[test]
+fn an_indeterminate_car_starting_over_a_dip_rests_on_its_other_wheels() {
+    use maglev_host_sim::vehicle::{Contact, VehicleModel};
+    use nalgebra::{DMatrix, DVector};
+    let (mb, jb, mw, kp, cp, kc, l, d) = (30e3, 2e5, 1e3, 1e8, 1e4, 1e9, 5.0, 3e-3);
+    let n = 5;
+    let (mut m, mut c, mut k) = (
+        DMatrix::zeros(n, n),
+        DMatrix::zeros(n, n),
+        DMatrix::zeros(n, n),
+    );
+    m[(0, 0)] = mb;
+    m[(1, 1)] = jb;
+    let xs = [l, 0.0, -l];
+    for (i, &x) in xs.iter().enumerate() {
+        m[(2 + i, 2 + i)] = mw;
+        // Spring between wheel i and the body point at x: z_w − (z_b + θ·x).
+        let mut sv = DVector::zeros(n);
+        sv[2 + i] = 1.0;
+        sv[0] = -1.0;
+        sv[1] = -x;
+        k += &sv * sv.transpose() * kp;
+        c += &sv * sv.transpose() * cp;
+    }
+    let mut weight = DVector::zeros(n);
+    weight[0] = -mb * GRAVITY;
+    for i in 0..3 {
+        weight[2 + i] = -mw * GRAVITY;
+    }
+    let w = (mb + 3.0 * mw) * GRAVITY;
+    let mut car = VehicleModel {
+        m,
+        c,
+        k,
+        wheels: Vec::new(),
+        p0: Vec::new(),
+        contacts: xs
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| Contact {
+                x0: x - l,
+                ey: 0.0,
+                ez: 0.0,
+                dof_z: 2 + i,
+                p0: 0.0,
+                k_h: kc,
+                k: kc,
+            })
+            .collect(),
+        body_z: 0,
+        body_pitch: 1,
+        length: 2.0 * l,
+        weight: w,
+    };
+    let (_, p0) = car.static_loads(&weight).unwrap();
+    for (ct, p) in car.contacts.iter_mut().zip(&p0) {
+        ct.p0 = *p;
+    }
+    let train = Train::from_cars(vec![car]);
+    let profiles = Profiles {
+        y: Box::new(|_| 0.0),
+        z: Box::new(move |x: f64| if (x + l).abs() < 2.0 { d } else { 0.0 }),
+    };
+    let probes = (0..3)
+        .map(|wheel| Probe::Wheel {
+            wheel,
+            q: WheelQ::ForceZ,
+        })
+        .collect();
+    let mut rec = collect(probes);
+    let s = settings(10.0, 0.1, LawKind::Paper, Geometry::Paper, vec![]);
+    let out = run(&mut RigidGuideway::new(DT), &train, &profiles, &s, &mut rec);
+    let first = rec.rows[0].clone();
+    println!("static loads {p0:.1?} N; start over the dip: {first:.1?} N");
+    assert_eq!(first[1], 0.0, "{first:?}");
+    for f in [first[0], first[2]] {
+        assert!((f - w / 2.0).abs() <= 1e-9 * w, "{f} vs {}", w / 2.0);
+    }
+    let worst = rec
+        .rows
+        .iter()
+        .flat_map(|r| r.iter().zip(&first).map(|(a, b)| (a - b).abs()))
+        .fold(0.0, f64::max);
+    let tol = 2.0 * kc * s.tolerance;
+    println!("max change over 0.1 s {worst:.2e} N (tolerance {tol} N)");
+    assert!(rec.rows.iter().all(|r| r[1] == 0.0));
+    assert!(worst <= tol, "{worst}");
+    assert_eq!(out.contact_loss_steps, 50);
+    assert_eq!(out.unconverged_steps, 0);
+}
