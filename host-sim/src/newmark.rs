@@ -202,6 +202,16 @@ impl Newmark {
         })
     }
 
+    /// Starts from rest at the displacement `d` instead of zero (velocity and acceleration
+    /// zero): a static equilibrium of the load the first step starts from, `K d = f(0)`, which
+    /// the caller has solved (`TrainState::start_on_rail`). Before the first step only.
+    pub fn start_at(&mut self, d: &DVector<f64>) {
+        self.committed.d.copy_from(d);
+        self.committed.v.fill(0.0);
+        self.committed.a.fill(0.0);
+        self.solved = false;
+    }
+
     /// Committed displacement at t.
     pub fn u(&self) -> &DVector<f64> {
         &self.committed.d

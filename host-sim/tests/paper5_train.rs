@@ -483,3 +483,217 @@ fn timing_of_12_car_trains_over_35_spans() {
         );
     }
 }
+
+// ------------------------------------------------------- the start on the paper-5 rough rail
+
+/// Issue #25: the paper-5 wheel/rail train (12 cars, the Table 1 irregularity of seed 1 as
+/// the scenario builds it) starts in static equilibrium on its rough rail, on a rigid
+/// guideway (so the rail's roughness is the only input).
+///
+/// At t = 0 every contact force is its static load P0, and consistent with the car's state:
+/// P = P0 − k·(z_w + r_z(x0)). In this car both rails share r_z and the car is statically
+/// determinate in the vertical plane (two axles per bogie on its heave and pitch, two bogies
+/// on the body's), so the rough rail moves the car but redistributes no load: P = P0 up to
+/// the solve's round-off, k·|δz_w| with |δz_w| ≤ cond(K)·ε·|z_w| (backward-stable Cholesky;
+/// a factor 10 for the few operations around it).
+///
+/// The first step from rest at q0 (v = a = 0, K q0 = f0) is u1 = q0 + Keff⁻¹·Δf, Δf the change
+/// of the contacts' forcing, −k·Δr_z on each contact DOF (Δr_z the irregularity's change under
+/// the contact over v·Δt). Keff = K + 4M/Δt² + 2C/Δt ⪰ 4M/Δt², so
+/// ‖Δz‖₂ ≤ Δt²/(4·λmin(M))·k·‖Δr_z‖₂ over the car, and each contact force changes by
+/// |ΔP_j| = k·|Δz_wj + Δr_zj| ≤ k·(|Δr_zj| + ‖Δz‖₂). On today's code (the car at its
+/// smooth-rail position) the first step jumps by about k·r_z(x0) instead, 270 kN at wheel 1.
+#[test]
+fn paper5_wheel_rail_train_starts_at_its_static_axle_loads_on_the_rough_rail() {
+    use maglev_host_sim::case::Case;
+    use maglev_host_sim::setup::Passage;
+    let case = Case::load("paper-5", &["train=wheel-rail".into(), "t_end=0.02".into()]).unwrap();
+    let p = Passage::new(&case).unwrap();
+    let Load::Vehicle(train) = &p.load else {
+        panic!("paper-5 wheel-rail is a train")
+    };
+    assert_eq!((train.cars.len(), train.contacts.len()), (12, 96));
+    let nc = train.contacts.len();
+    let mut probes = Vec::new();
+    for wheel in 0..nc {
+        probes.push(Probe::Wheel {
+            wheel,
+            q: WheelQ::ForceZ,
+        });
+        probes.push(Probe::Wheel {
+            wheel,
+            q: WheelQ::Z,
+        });
+    }
+    let mut rec = collect(probes);
+    let dt = p.settings.dt;
+    let out = simulate(
+        &mut RigidGuideway::new(dt),
+        &p.load,
+        &p.profiles,
+        &p.settings,
+        &mut rec,
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(out.unconverged_steps, 0);
+    let car = &train.cars[0];
+    let eps = f64::EPSILON;
+    let eig = |m: &nalgebra::DMatrix<f64>| m.clone().symmetric_eigen().eigenvalues;
+    let kr = eig(&car.k_on_rigid_rail());
+    let cond = kr.max() / kr.min();
+    let lambda_m = eig(&car.m).min();
+    let rz = |x: f64| (p.profiles.z)(x);
+    let (r0, r1) = (&rec.rows[0], &rec.rows[1]);
+    let (mut worst0, mut worst1, mut worst_ratio) = (0.0f64, 0.0f64, 0.0f64);
+    let mut first = Vec::new();
+    for (ci, _) in train.cars.iter().enumerate() {
+        let mine: Vec<usize> = (0..nc).filter(|&j| train.contacts[j].car == ci).collect();
+        let dr: Vec<f64> = mine
+            .iter()
+            .map(|&j| {
+                let x0 = train.contacts[j].x0;
+                rz(x0 + p.settings.speed * dt) - rz(x0)
+            })
+            .collect();
+        let dr_norm = dr.iter().map(|d| d * d).sum::<f64>().sqrt();
+        for (&j, d) in mine.iter().zip(&dr) {
+            let c = &train.contacts[j];
+            let (f0, z0) = (r0[2 * j], r0[2 * j + 1]);
+            // t = 0: the static load, and the force the car's state gives.
+            let tol0 = 10.0 * cond * eps * c.k * z0.abs().max(rz(c.x0).abs()) + 4.0 * eps * c.p0;
+            let from_state = c.p0 - c.k * (z0 + rz(c.x0));
+            assert!(
+                (f0 - c.p0).abs() <= tol0 && (from_state - c.p0).abs() <= tol0,
+                "contact {}: P(0) {f0} N, from the state {from_state} N, P0 {} N, tol {tol0:e}",
+                j + 1,
+                c.p0
+            );
+            worst0 = worst0.max((f0 - c.p0).abs().max((from_state - c.p0).abs()));
+            // The first step: the rail's roughness under it, and nothing more.
+            let dz_bound = dt * dt / (4.0 * lambda_m) * c.k * dr_norm;
+            let tol1 = c.k * (d.abs() + dz_bound);
+            let df = (r1[2 * j] - f0).abs();
+            assert!(
+                df <= tol1,
+                "contact {}: first step changes P by {df:.1} N > {tol1:.1} N",
+                j + 1
+            );
+            worst1 = worst1.max(df);
+            worst_ratio = worst_ratio.max(df / tol1);
+            if j < 8 {
+                first.push((r0[2 * j], r1[2 * j], rec.rows[10][2 * j]));
+            }
+        }
+    }
+    println!(
+        "cond(K) {cond:.2e}, λmin(M) {lambda_m:.1} kg; max |P(0) − P0| {worst0:.2e} N; \
+         max first-step change {worst1:.3e} N, at most {worst_ratio:.3} of its bound"
+    );
+    println!("car 1's contacts: (P at t = 0, Δt, 10Δt) N: {first:.1?}");
+}
+
+/// A statically indeterminate car: a rigid beam (heave, pitch) on three wheels 5 m apart,
+/// each on a stiff primary spring (1e8 N/m) and a contact spring (1e9 N/m). The middle
+/// contact starts over a 3 mm dip. On three supports that dip unloads the middle one by
+/// (2/3)·k_s·d = 1.8e5 N (k_s the two springs in series), more than its 1.08e5 N static
+/// load. So the car starts on its two end wheels: the middle force 0, the ends W/2 each (the
+/// hanging middle wheel's weight goes to the body), the car at rest. While the rail under
+/// every contact stays as it was (10 m/s for 0.1 s: the dip spans ±2 m), nothing moves: the
+/// middle force stays 0 and the others at W/2 within what the loop's lift-off correction
+/// leaves. The loop stops when that correction changes by at most k·tolerance (1 N here)
+/// between passes; with the clamp's contraction factor ρ = k·H_ww ≈ k/(k + k_p + 4m_w/Δt²) = 0.47 ≤ 1/2, its
+/// remainder is at most ρ/(1 − ρ) ≤ 1 times that, so the car meets a force error of at most
+/// 2·k·tolerance, and the end wheels' forces stay within it. Every step is a lift-off.
+/// (The paper-5 car cannot start lifted off: both rails share r_z and it is statically
+/// determinate in the vertical plane, docs/cars.md.)
+#[test]
+fn an_indeterminate_car_starting_over_a_dip_rests_on_its_other_wheels() {
+    use maglev_host_sim::vehicle::{Contact, VehicleModel};
+    use nalgebra::{DMatrix, DVector};
+    let (mb, jb, mw, kp, cp, kc, l, d) = (30e3, 2e5, 1e3, 1e8, 1e4, 1e9, 5.0, 3e-3);
+    let n = 5;
+    let (mut m, mut c, mut k) = (
+        DMatrix::zeros(n, n),
+        DMatrix::zeros(n, n),
+        DMatrix::zeros(n, n),
+    );
+    m[(0, 0)] = mb;
+    m[(1, 1)] = jb;
+    let xs = [l, 0.0, -l];
+    for (i, &x) in xs.iter().enumerate() {
+        m[(2 + i, 2 + i)] = mw;
+        // Spring between wheel i and the body point at x: z_w − (z_b + θ·x).
+        let mut sv = DVector::zeros(n);
+        sv[2 + i] = 1.0;
+        sv[0] = -1.0;
+        sv[1] = -x;
+        k += &sv * sv.transpose() * kp;
+        c += &sv * sv.transpose() * cp;
+    }
+    let mut weight = DVector::zeros(n);
+    weight[0] = -mb * GRAVITY;
+    for i in 0..3 {
+        weight[2 + i] = -mw * GRAVITY;
+    }
+    let w = (mb + 3.0 * mw) * GRAVITY;
+    let mut car = VehicleModel {
+        m,
+        c,
+        k,
+        wheels: Vec::new(),
+        p0: Vec::new(),
+        contacts: xs
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| Contact {
+                x0: x - l,
+                ey: 0.0,
+                ez: 0.0,
+                dof_z: 2 + i,
+                p0: 0.0,
+                k_h: kc,
+                k: kc,
+            })
+            .collect(),
+        body_z: 0,
+        body_pitch: 1,
+        length: 2.0 * l,
+        weight: w,
+    };
+    let (_, p0) = car.static_loads(&weight).unwrap();
+    for (ct, p) in car.contacts.iter_mut().zip(&p0) {
+        ct.p0 = *p;
+    }
+    let train = Train::from_cars(vec![car]);
+    let profiles = Profiles {
+        y: Box::new(|_| 0.0),
+        z: Box::new(move |x: f64| if (x + l).abs() < 2.0 { d } else { 0.0 }),
+    };
+    let probes = (0..3)
+        .map(|wheel| Probe::Wheel {
+            wheel,
+            q: WheelQ::ForceZ,
+        })
+        .collect();
+    let mut rec = collect(probes);
+    let s = settings(10.0, 0.1, LawKind::Paper, Geometry::Paper, vec![]);
+    let out = run(&mut RigidGuideway::new(DT), &train, &profiles, &s, &mut rec);
+    let first = rec.rows[0].clone();
+    println!("static loads {p0:.1?} N; start over the dip: {first:.1?} N");
+    assert_eq!(first[1], 0.0, "{first:?}");
+    for f in [first[0], first[2]] {
+        assert!((f - w / 2.0).abs() <= 1e-9 * w, "{f} vs {}", w / 2.0);
+    }
+    let worst = rec
+        .rows
+        .iter()
+        .flat_map(|r| r.iter().zip(&first).map(|(a, b)| (a - b).abs()))
+        .fold(0.0, f64::max);
+    let tol = 2.0 * kc * s.tolerance;
+    println!("max change over 0.1 s {worst:.2e} N (tolerance {tol} N)");
+    assert!(rec.rows.iter().all(|r| r[1] == 0.0));
+    assert!(worst <= tol, "{worst}");
+    assert_eq!(out.contact_loss_steps, 50);
+    assert_eq!(out.unconverged_steps, 0);
+}

@@ -154,7 +154,8 @@ struct TimeLoop<'a, G, M: ?Sized> {
 
 impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
     /// Everything at rest at t = 0: the train in its static equilibrium under the static
-    /// forces, the magnets at their initial gaps, each contact at its static load.
+    /// forces, the magnets at their initial gaps, each contact at its static load on the rail
+    /// as it lies at t = 0 ([`TrainState::start_on_rail`]).
     fn new(
         guideway: &'a mut G,
         magnets: &'a mut M,
@@ -165,7 +166,19 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
     ) -> Result<Self> {
         let v = riders.train;
         let h0 = s.controller.h0;
-        let veh = TrainState::new(v, s.dt)?;
+        let mut veh = TrainState::new(v, s.dt)?;
+        // Every contact starts at its static load on the rail as it lies at t = 0 (the
+        // irregularity under it and the guideway's initial motion), the car at rest in that
+        // static equilibrium (docs/cars.md "The start on a rough rail").
+        let forcing: Vec<f64> = v
+            .contacts
+            .iter()
+            .map(|c| {
+                let z_g = guideway.motion_at(c.x0, c.ey, c.ez).z;
+                c.k * (z_g - (profiles.z)(c.x0))
+            })
+            .collect();
+        let contact_p = veh.start_on_rail(v, &forcing)?;
         let gaps_prev = super::initial_gaps(v, profiles, h0);
         let dofs = ProbeDofs {
             wheels: v
@@ -187,7 +200,7 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
                 .iter()
                 .map(|&g| magnet_gaps(g, h0).map(|h| (h, h)))
                 .collect(),
-            contact_ranges: v.contacts.iter().map(|c| (c.p0, c.p0)).collect(),
+            contact_ranges: contact_p.iter().map(|&p| (p, p)).collect(),
             unconverged_steps: 0,
             collision_steps: 0,
             contact_loss_steps: 0,
@@ -197,7 +210,7 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
         };
         Ok(TimeLoop {
             at: Kinematics::at_rest(v, riders.forces, profiles, steps),
-            it: IterationState::at_rest(v, riders.forces, gaps_prev),
+            it: IterationState::at_rest(v, riders.forces, gaps_prev, contact_p),
             guideway,
             magnets,
             train: v,
@@ -499,8 +512,14 @@ impl Kinematics {
 
 impl IterationState {
     /// The buffers at t = 0: the magnets at `gaps_prev` with their static forces, every
-    /// contact at its static load, each moving force's load at its start.
-    fn at_rest(v: &Train, forces: &[MovingLoad], gaps_prev: Vec<WheelGaps>) -> Self {
+    /// contact at its force `contact_p` (its static load on the rail at t = 0), each moving
+    /// force's load at its start.
+    fn at_rest(
+        v: &Train,
+        forces: &[MovingLoad],
+        gaps_prev: Vec<WheelGaps>,
+        contact_p: Vec<f64>,
+    ) -> Self {
         let (nw, nc) = (v.wheels.len(), v.contacts.len());
         let mut loads = vec![PointLoad::default(); nw + nc];
         loads.extend(forces.iter().map(|f| PointLoad {
@@ -523,7 +542,7 @@ impl IterationState {
             fc: vec![0.0; nc],
             lift: vec![0.0; nc],
             lift_used: vec![0.0; nc],
-            contact_p: v.contacts.iter().map(|c| c.p0).collect(),
+            contact_p,
         }
     }
 }

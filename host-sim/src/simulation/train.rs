@@ -7,8 +7,8 @@
 
 use crate::newmark::Newmark;
 use crate::vehicle::Train;
-use crate::Result;
-use nalgebra::DVector;
+use crate::{Error, Result};
+use nalgebra::{Cholesky, DVector};
 use rayon::prelude::*;
 
 /// One car's integrator and load vector.
@@ -50,6 +50,83 @@ impl TrainState {
             u: vec![0.0; n],
             a: vec![0.0; n],
         })
+    }
+
+    /// Puts every car with contacts into its static equilibrium on the rail as it lies at
+    /// t = 0 (docs/cars.md "The start on a rough rail"), and returns each contact's force at
+    /// t = 0 (N, compressive, zero when lifted off). `forcing` is each contact's
+    /// `k·(z_g − r_z)` at t = 0, the load the coupling puts on the car's contact DOF.
+    ///
+    /// The car's K here is [`crate::vehicle::VehicleModel::k_on_rigid_rail`], the matrix the
+    /// car integrates, so `K q0 = f(0)` makes the first step start with zero acceleration.
+    /// A contact can only push: a contact whose spring would pull at q0 is dropped from the
+    /// static problem (its spring and forcing out, its static load P0 taken off the car) and
+    /// the problem solved again, until the
+    /// contacts in and out agree (at most one pass per contact). Its load on the car is then
+    /// the time loop's lift-off correction, so the car is still at rest. A car whose rail
+    /// holds no contact has no equilibrium: refused. Cars with no forcing (a smooth rail, a
+    /// maglev car) keep q0 = 0, bit for bit.
+    pub fn start_on_rail(&mut self, train: &Train, forcing: &[f64]) -> Result<Vec<f64>> {
+        let mut p: Vec<f64> = train.contacts.iter().map(|c| c.p0).collect();
+        for (car, model) in train.cars.iter().enumerate() {
+            let mine: Vec<usize> = (0..train.contacts.len())
+                .filter(|&j| train.contacts[j].car == car)
+                .collect();
+            if mine.iter().all(|&j| forcing[j] == 0.0) {
+                continue;
+            }
+            let n = model.m.nrows();
+            let mut on = vec![true; mine.len()];
+            let mut q = DVector::zeros(n);
+            let mut settled = false;
+            for _ in 0..=mine.len() {
+                let mut k = model.k.clone();
+                let mut f = DVector::zeros(n);
+                for (&j, &o) in mine.iter().zip(&on) {
+                    let c = &train.contacts[j];
+                    if o {
+                        k[(c.dof_z, c.dof_z)] += c.k;
+                        f[c.dof_z] += forcing[j];
+                    } else {
+                        // Lifted off: the car loses its static load there (P − P0 = −P0).
+                        f[c.dof_z] -= c.p0;
+                    }
+                }
+                q = Cholesky::new(k)
+                    .ok_or_else(|| {
+                        Error::numerical(format!(
+                            "car {}: no wheel touches the rail at t = 0, so it has no static                              equilibrium (rail irregularity beyond the static compression)",
+                            car + 1
+                        ))
+                    })?
+                    .solve(&f);
+                // The linear force of every contact at q0: P0 − k·z_w + k·(z_g − r_z).
+                let mut changed = false;
+                for (&j, o) in mine.iter().zip(on.iter_mut()) {
+                    let c = &train.contacts[j];
+                    let pj = c.p0 - c.k * q[c.dof_z] + forcing[j];
+                    p[j] = pj.max(0.0);
+                    if (pj >= 0.0) != *o {
+                        *o = pj >= 0.0;
+                        changed = true;
+                    }
+                }
+                if !changed {
+                    settled = true;
+                    break;
+                }
+            }
+            if !settled {
+                return Err(Error::numerical(format!(
+                    "car {}: the contacts in touch at t = 0 do not settle",
+                    car + 1
+                )));
+            }
+            let o = self.offsets[car];
+            self.u[o..o + n].copy_from_slice(q.as_slice());
+            self.cars[car].newmark.start_at(&q);
+        }
+        Ok(p)
     }
 
     /// Train-wide index of DOF `dof` of car `car`.
