@@ -430,9 +430,27 @@ fn law_record(law: &LawKind) -> serde_json::Value {
     serde_json::Value::Object(record)
 }
 
+/// The largest magnitude any physical key may have, in its own unit (kN/m², t, m, m/s, …):
+/// the stiffest material a guideway is built of (steel, 2.1e8 kN/m²) is under it, and so is
+/// every bundled value (at most 3.6e7); a larger one is a slip of the exponent, and the bound
+/// keeps every product of two inputs (≤ 1e18) far from overflow.
+pub const MAX_MAGNITUDE: f64 = 1e9;
+
+/// `v` within ±[`MAX_MAGNITUDE`], else the error naming `key`.
+fn in_range(key: &str, v: f64) -> Result<f64> {
+    if v.abs() <= MAX_MAGNITUDE {
+        Ok(v)
+    } else {
+        Err(Error::invalid(
+            key,
+            format!("must be at most {MAX_MAGNITUDE:e} in magnitude (in its unit), got {v:e}"),
+        ))
+    }
+}
+
 fn positive(key: &str, v: f64) -> Result<f64> {
     if v.is_finite() && v > 0.0 {
-        Ok(v)
+        in_range(key, v)
     } else {
         Err(Error::invalid(
             key,
@@ -443,7 +461,7 @@ fn positive(key: &str, v: f64) -> Result<f64> {
 
 fn finite(key: &str, v: f64) -> Result<f64> {
     if v.is_finite() {
-        Ok(v)
+        in_range(key, v)
     } else {
         Err(Error::invalid(
             key,
@@ -454,7 +472,7 @@ fn finite(key: &str, v: f64) -> Result<f64> {
 
 fn non_negative(key: &str, v: f64) -> Result<f64> {
     if v.is_finite() && v >= 0.0 {
-        Ok(v)
+        in_range(key, v)
     } else {
         Err(Error::invalid(
             key,
@@ -1004,6 +1022,18 @@ fn controller(sc: &Scenario, dt: f64) -> Result<Params> {
         v_max: c.vmax_V,
         scheme: c.scheme,
     };
+    for (key, v) in [
+        ("controller.i0_A", c.i0_A),
+        ("controller.h0_m", c.h0_m),
+        ("controller.r0_ohm", c.r0_ohm),
+        ("controller.kp_V_m_per_A", c.kp_V_m_per_A),
+        ("controller.ki_V_m_per_A_s", c.ki_V_m_per_A_s),
+        ("controller.vmax_V", c.vmax_V),
+    ] {
+        if v.is_finite() {
+            in_range(key, v)?;
+        }
+    }
     p.validate().map_err(controller_error)?;
     Ok(p)
 }
@@ -1220,6 +1250,10 @@ mod tests {
             ("controller.nsub=0", "controller.nsub"),
             ("controller.vmax_V=-1", "controller.vmax_V"),
             ("controller.r0_ohm=0", "controller.r0_ohm"),
+            ("vehicle.body_mass_t=1e300", "vehicle.body_mass_t"),
+            ("bridge.iy_m4=1e12", "bridge.iy_m4"),
+            ("controller.kp_V_m_per_A=1e200", "controller.kp_V_m_per_A"),
+            ("controller.vmax_V=1e300", "controller.vmax_V"),
         ] {
             let e = Case::load("paper-4.2", &[set.into()]).unwrap_err();
             let m = e.to_string();
