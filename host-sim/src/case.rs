@@ -12,6 +12,7 @@
 //! [`Changes`] applied to the scenario as written and resolved again, so a derived case is
 //! checked exactly as a loaded one and equals the case the same `--set` text would give.
 
+use crate::fe::newmark::Rayleigh;
 use crate::fe::soil::Soil;
 use crate::fe::viaduct::{BearingSpec, FoundationSpec, PierSpec, ViaductSpec};
 use crate::guideway::{BeamSection, Bridge};
@@ -99,6 +100,8 @@ pub struct Case {
     /// The viaduct on piers and footings (`bridge.kind = "viaduct"`), or `None` for
     /// simply supported spans on rigid supports.
     pub viaduct: Option<ViaductSpec>,
+    /// Rayleigh damping of the FE spans (`[bridge.damping]`), `None`: undamped.
+    pub damping: Option<Rayleigh>,
     pub train: TrainCase,
     /// The magnets' controller (p0 is set per magnet from its car's statics); `None` for a
     /// train without magnets (forces, wheel/rail), whose scenario needs no `[controller]`.
@@ -148,6 +151,13 @@ impl Case {
             MAX_ITERATIONS as usize,
         )?;
         let bridge = bridge(&sc.bridge)?;
+        let damping = sc.bridge.damping.as_ref().map(rayleigh).transpose()?;
+        if damping.is_some() && (sc.run.model != Model::Fe || sc.bridge.kind != BridgeKind::Spans) {
+            return Err(Error::invalid(
+                "bridge.damping",
+                "only the FE spans take damping (run.model = \"fe\", bridge.kind = \"spans\")",
+            ));
+        }
         let viaduct = viaduct(&sc.bridge, &bridge, r.elements_per_span)?;
         if sc.run.model == Model::Fe {
             check_fe_size(&bridge, r.elements_per_span, dt)?;
@@ -206,6 +216,7 @@ impl Case {
             max_iterations: sc.run.max_iterations,
             bridge,
             viaduct,
+            damping,
             train,
             controller,
             law,
@@ -355,7 +366,7 @@ impl Case {
             })
         });
         let law = law_record(&self.law);
-        json!({
+        let mut record = json!({
             "model": format!("{:?}", self.model).to_lowercase(),
             "speed_m_per_s": self.speed,
             "dt_s": self.dt,
@@ -410,7 +421,13 @@ impl Case {
             "geometry": self.geometry.as_str(),
             "irregularity_seed": self.irregularity_seed,
             "probes": self.probes.names,
-        })
+        });
+        // Only when given, so an undamped case records what it always did.
+        if let Some(r) = self.damping {
+            record["bridge"]["rayleigh_alpha_per_s"] = json!(r.alpha);
+            record["bridge"]["rayleigh_beta_s"] = json!(r.beta);
+        }
+        record
     }
 }
 
@@ -534,6 +551,30 @@ fn bridge(b: &BridgeSection) -> Result<Bridge> {
                 .transpose()?,
         },
         spans: b.spans_m.clone(),
+    })
+}
+
+/// Rayleigh coefficients with damping ratio `ratio` at `f1_Hz` and `f2_Hz`:
+/// `α = 2ζ·ω1·ω2/(ω1 + ω2)`, `β = 2ζ/(ω1 + ω2)` (ζ(ω) = α/(2ω) + β·ω/2).
+fn rayleigh(d: &scenario::DampingSection) -> Result<Rayleigh> {
+    let ratio = non_negative("bridge.damping.ratio", d.ratio)?;
+    if ratio >= 1.0 {
+        return Err(Error::invalid(
+            "bridge.damping.ratio",
+            format!("must be below 1 (critical damping), got {ratio}"),
+        ));
+    }
+    let w1 = 2.0 * std::f64::consts::PI * positive("bridge.damping.f1_Hz", d.f1_Hz)?;
+    let w2 = 2.0 * std::f64::consts::PI * positive("bridge.damping.f2_Hz", d.f2_Hz)?;
+    if w2 < w1 {
+        return Err(Error::invalid(
+            "bridge.damping.f2_Hz",
+            format!("must be at least f1_Hz = {}, got {}", d.f1_Hz, d.f2_Hz),
+        ));
+    }
+    Ok(Rayleigh {
+        alpha: 2.0 * ratio * w1 * w2 / (w1 + w2),
+        beta: 2.0 * ratio / (w1 + w2),
     })
 }
 
@@ -1216,6 +1257,14 @@ mod tests {
             &[&format!("output.probes=[{}]", probes.join(",")), "t_end=10"],
             "output.probes",
         );
+        for (scenario, sets) in [("paper-4.2", vec!["model=modal"]), ("paper-5", vec![])] {
+            let mut sets: Vec<String> = sets.into_iter().map(String::from).collect();
+            sets.push("bridge.damping={ratio=0.02, f1_Hz=5.0, f2_Hz=20.0}".into());
+            match Case::load(scenario, &sets) {
+                Ok(_) => panic!("{scenario}: damping accepted where no model takes it"),
+                Err(e) => assert!(e.to_string().starts_with("bridge.damping"), "{e}"),
+            }
+        }
         match Case::load("paper-5", &["bridge.pier.elements=1000".into()]) {
             Ok(_) => panic!("1000 pier elements accepted"),
             Err(e) => assert!(e.to_string().contains("bridge.pier.elements"), "{e}"),

@@ -88,10 +88,23 @@ pub struct BridgeSection {
     /// `[bridge.bearings]`, `[bridge.pier]`, `[bridge.footing]`, `[bridge.soil]`).
     #[serde(default)]
     pub kind: BridgeKind,
+    /// Rayleigh damping of the FE spans (`[bridge.damping]`); none by default (the paper's).
+    pub damping: Option<DampingSection>,
     pub bearings: Option<BearingsSection>,
     pub pier: Option<PierSection>,
     pub footing: Option<FootingSection>,
     pub soil: Option<SoilSection>,
+}
+
+/// `[bridge.damping]`: Rayleigh damping `C = α·M + β·K` of the FE spans, given as the damping
+/// ratio it has at two frequencies (equal at both, lower between, higher outside).
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct DampingSection {
+    pub ratio: f64,
+    pub f1_Hz: f64,
+    pub f2_Hz: f64,
 }
 
 /// `bridge.kind`.

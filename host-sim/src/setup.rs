@@ -72,9 +72,12 @@ impl AnyGuideway {
                     "the modal reference has no viaduct on piers; use fe or rigid",
                 ))
             }
-            (Model::Fe, None) => {
-                AnyGuideway::Fe(FeGuideway::new(&case.bridge, case.elements_per_span, dt)?)
-            }
+            (Model::Fe, None) => AnyGuideway::Fe(FeGuideway::with_damping(
+                &case.bridge,
+                case.elements_per_span,
+                dt,
+                case.damping,
+            )?),
             (Model::Modal, None) if case.bridge.spans.len() == 1 => AnyGuideway::Modal(
                 ModalGuideway::from_bridge(&case.bridge, case.modes, dt)
                     .map_err(|e| Error::numerical(e.to_string()))?,

@@ -322,6 +322,17 @@ fn required_on_the_page_is_required_by_the_code() {
         .map(|(n, t)| (n.to_string(), t.to_string()))
         .collect();
     samples.push(("from-scratch".into(), EXAMPLE.into()));
+    // The bridge's damping, a sub-table no bundled file has.
+    samples.push((
+        "moving-force, damped".into(),
+        BUNDLED
+            .iter()
+            .find(|(n, _)| *n == "moving-force")
+            .unwrap()
+            .1
+            .to_string()
+            + "\n[bridge.damping]\nratio = 0.02\nf1_Hz = 6.0\nf2_Hz = 30.0\n",
+    ));
     // The state law's gains, the one sub-table no file has.
     samples.push((
         "from-scratch, state law".into(),
