@@ -313,8 +313,9 @@ fn state_law_routh_boundary_of_a_bare_magnet() {
     let tau = 2.0 * p0 * h0 / (inner.r0 * inner.i0 * inner.i0);
     let kp = 2.5 * vb / h0;
     let kd_c = tau * (kp - vb / h0);
-    let lev_poles = |kd: f64| -> Vec<Complex> {
-        let law = LawKind::State(StateParams {
+    // kp and kd alone, no voltage bound.
+    let pd = |kp: f64, kd: f64| {
+        LawKind::State(StateParams {
             kp,
             kd,
             ka: 0.0,
@@ -324,8 +325,10 @@ fn state_law_routh_boundary_of_a_bare_magnet() {
             rate_hz: 1e4,
             observer_hz: 300.0,
             geometry: Geometry::Ems,
-        });
-        let poles = VehiclePlant::new(&v, &inner, &law, Geometry::Ems)
+        })
+    };
+    let lev_poles = |kd: f64| -> Vec<Complex> {
+        let poles = VehiclePlant::new(&v, &inner, &pd(kp, kd), Geometry::Ems)
             .unwrap()
             .poles()
             .unwrap();
@@ -359,24 +362,9 @@ fn state_law_routh_boundary_of_a_bare_magnet() {
     assert!(max_re(&lev_poles(kd_c * (1.0 - 1e-6))) > 0.0);
     // Below kp = V_b/h0 a real root sits in the right half-plane whatever kd.
     let kp_weak = 0.99 * vb / h0;
-    let weak = VehiclePlant::new(
-        &v,
-        &inner,
-        &LawKind::State(StateParams {
-            kp: kp_weak,
-            kd: 100.0 * kd_c,
-            ka: 0.0,
-            ki: 0.0,
-            kc: 0.0,
-            v_max: 1e6,
-            rate_hz: 1e4,
-            observer_hz: 300.0,
-            geometry: Geometry::Ems,
-        }),
-        Geometry::Ems,
-    )
-    .unwrap()
-    .verdict()
-    .unwrap();
+    let weak = VehiclePlant::new(&v, &inner, &pd(kp_weak, 100.0 * kd_c), Geometry::Ems)
+        .unwrap()
+        .verdict()
+        .unwrap();
     assert!(!weak.stable);
 }
