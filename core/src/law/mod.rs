@@ -258,11 +258,6 @@ impl<S: Scalar> Law<S> {
             self.update(s, Measurement::gap(h))
         })
     }
-
-    /// The coil's state (every law here drives the paper's coil and inner loop).
-    pub fn coil(st: &LawState<S>) -> &State<S> {
-        &st.inner
-    }
 }
 
 #[cfg(test)]

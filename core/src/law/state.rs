@@ -245,11 +245,6 @@ impl<S: Scalar> StateLaw<S> {
         &self.params
     }
 
-    /// The coil the law drives.
-    pub fn coil(&self) -> &Levitation<S> {
-        &self.coil
-    }
-
     /// Equilibrium at the coil state `coil` (gap `η`, `x = 0`): at rest, the integral holding
     /// the voltage `1 + η` that keeps `g = g0` at that gap.
     pub fn equilibrium(&self, coil: &State<S>) -> StateLawState<S> {
