@@ -1407,4 +1407,29 @@ mod tests {
             .unwrap_err();
         assert!(e.to_string().starts_with("controller"), "{e}");
     }
+
+    /// The committed seeds of the input fuzz target (fuzz/corpus/input, docs/scenarios.md
+    /// "Fuzzing the input path") resolve: a seed that no longer does starts the fuzzer at an
+    /// error instead of deep in `Case::new`. Input shape: TEXT or a bundled name, then NUL and
+    /// one `--set` per line.
+    #[test]
+    fn fuzz_seeds_resolve() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/corpus/input");
+        let mut seeds = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let data = std::fs::read_to_string(&path).unwrap();
+            let (text, sets) = data.split_once('\0').unwrap_or((&data, ""));
+            let sets: Vec<String> = sets.lines().map(str::to_owned).collect();
+            let text = scenario::BUNDLED
+                .iter()
+                .find(|(n, _)| *n == text)
+                .map_or(text, |(_, t)| t);
+            scenario::parse(text, "seed", &sets)
+                .and_then(Case::new)
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            seeds += 1;
+        }
+        assert!(seeds >= 10, "{seeds} seeds in {}", dir.display());
+    }
 }

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Writes the committed seed corpus of the `input` target (corpus/input/): every bundled and
+# example scenario as text, and bundled names with `--set` overrides that reach the other
+# branches of Case::new (laws, schemes, models, repeated cars, viaduct keys, probes).
+# Input shape (src/lib.rs): TEXT, then NUL and one `--set` per line.
+set -euo pipefail
+cd "$(dirname "$0")"
+out=corpus/input
+rm -rf "$out"
+mkdir -p "$out"
+for f in ../scenarios/*.toml ../scenarios/examples/*.toml; do
+  cp "$f" "$out/text-$(basename "$f" .toml)"
+done
+seed() { # NAME SCENARIO SET...
+  local name=$1 scenario=$2
+  shift 2
+  { printf '%s\0' "$scenario"; printf '%s\n' "$@"; } >"$out/set-$name"
+}
+state='controller.state={kp_V_per_m=51600.0, kd_V_s_per_m=1600.0, ka_V_s2_per_m=40.0, ki_V_per_m_s=4300.0, kc_V_per_A=10.0, vmax_V=500.0}'
+seed gap-loop paper-4.2 law=gap-loop
+seed state paper-4.2 law=state geometry=ems vehicle.wheel_mass_kg=1000 "$state"
+seed modal paper-4.2 model=modal modes=20 speed=150
+seed accurate paper-4.2 scheme=accurate nsub=8 alpha=0.25 controller.interp=parabolic
+seed repeat paper-4.2 vehicle.repeat=3 vehicle.car_length_m=25 t_end=2 dt=0.002
+seed probes paper-4.2 'output.probes=["span1.midspan.rx", "wheel4.gap_y", "car1.body.z"]'
+seed no-irregularity paper-4.2 irregularity.enabled=false seed=7 model=rigid
+seed wheel-rail paper-5 train.kind=wheel-rail train.cars=2 'output.probes=["wheel1.force_z"]'
+seed maglev-state paper-5 train.cars=4 elements=8 law=state geometry=ems "$state"
+seed viaduct paper-5 bridge.pier.elements=8 bridge.soil.poisson=0.3 bridge.bearings.drop_m=0
+seed forces train-forces train.repeat=4 train.car_length_m=30 train.offset_y_m=1
+seed moving-force moving-force model=modal vehicle.force_kN=-100 'bridge.spans_m=[20, 30]'
