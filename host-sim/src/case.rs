@@ -12,6 +12,7 @@
 //! [`Changes`] applied to the scenario as written and resolved again, so a derived case is
 //! checked exactly as a loaded one and equals the case the same `--set` text would give.
 
+use crate::error::shown;
 use crate::fe::newmark::Rayleigh;
 use crate::fe::soil::Soil;
 use crate::fe::viaduct::{BearingSpec, FoundationSpec, PierSpec, ViaductSpec};
@@ -198,6 +199,10 @@ impl Case {
             train: &train,
             sub_steps: controller.as_ref().map_or(0.0, |p| sub_steps(p, &law, dt)),
             columns: sc.output.as_ref().map_or(0, |o| o.probes.len()),
+            profile: match sc.irregularity.as_ref().filter(|i| i.enabled) {
+                Some(_) => (speed * t_end, train_length(&train)),
+                None => (0.0, 0.0),
+            },
         })?;
         let irregularity_seed = sc
             .irregularity
@@ -471,7 +476,7 @@ fn positive(key: &str, v: f64) -> Result<f64> {
     } else {
         Err(Error::invalid(
             key,
-            format!("must be a positive finite number, got {v}"),
+            format!("must be a positive finite number, got {}", shown(v)),
         ))
     }
 }
@@ -482,7 +487,7 @@ fn finite(key: &str, v: f64) -> Result<f64> {
     } else {
         Err(Error::invalid(
             key,
-            format!("must be a finite number, got {v}"),
+            format!("must be a finite number, got {}", shown(v)),
         ))
     }
 }
@@ -493,9 +498,92 @@ fn non_negative(key: &str, v: f64) -> Result<f64> {
     } else {
         Err(Error::invalid(
             key,
-            format!("must be zero or a positive finite number, got {v}"),
+            format!("must be zero or a positive finite number, got {}", shown(v)),
         ))
     }
+}
+
+/// `v` (in the key's unit) within `[lo, hi]`: the plausible range of a key whose extremes pass
+/// the sign checks but break the numerics below them (a stiffness that is singular to f64, a
+/// Newmark matrix that loses every digit, statics with no solution); `why` says where the
+/// range comes from. Found by driving every key to 1e-300, 1e-12, 9e8 and 0 through every
+/// bundled scenario (docs/scenarios.md, "Plausible ranges").
+fn within(key: &str, v: f64, lo: f64, hi: f64, why: &str) -> Result<f64> {
+    if (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(Error::invalid(
+            key,
+            format!(
+                "must be between {} and {} ({why}), got {}",
+                shown(lo),
+                shown(hi),
+                shown(v)
+            ),
+        ))
+    }
+}
+
+/// The plausible ranges of a beam section ([`within`]); the signs are checked where the
+/// section is built.
+fn plausible_section(prefix: &str, s: &BeamSection) -> Result<()> {
+    let key = |k: &str| format!("{prefix}.{k}");
+    let e = s.youngs_modulus / 1e3;
+    within(
+        &key("youngs_modulus_kN_per_m2"),
+        e,
+        1e3,
+        1e9,
+        "kN/m²: soft rubber's 1 MPa to 1000 GPa, stiffer than any steel",
+    )?;
+    within(
+        &key("shear_modulus_kN_per_m2"),
+        s.shear_modulus / 1e3,
+        e * 1e-3,
+        e,
+        "youngs_modulus/1000 to youngs_modulus: an isotropic solid has E/3 ≤ G ≤ E/2",
+    )?;
+    within(
+        &key("area_m2"),
+        s.area,
+        1e-4,
+        1e3,
+        "m²: a hundredth of a rail's section to a 1000 m² deck",
+    )?;
+    for (k, v) in ["shear_area_y_m2", "shear_area_z_m2"]
+        .iter()
+        .zip([s.shear_area_y, s.shear_area_z])
+    {
+        within(
+            &key(k),
+            v,
+            s.area * 1e-3,
+            s.area,
+            "area_m2/1000 to area_m2: a shear area is a part of the section",
+        )?;
+    }
+    for (k, v) in
+        ["iy_m4", "iz_m4", "torsion_constant_m4"]
+            .iter()
+            .zip([s.iy, s.iz, s.torsion_constant])
+    {
+        within(
+            &key(k),
+            v,
+            1e-8,
+            1e4,
+            "m⁴: a hundredth of a rail's 3e-5 m⁴ to a hundred times the largest box girder's",
+        )?;
+    }
+    within(
+        &key("mass_t_per_m"),
+        s.mass_per_length / 1e3,
+        1e-2,
+        1e3,
+        "t/m: 10 kg/m, lighter than any rail, to 1000 t/m; lighter girders leave the \
+         Newmark matrix of the FE spans without digits",
+    )?;
+    Ok(())
 }
 
 fn at_least(key: &str, v: usize, min: usize) -> Result<usize> {
@@ -531,7 +619,7 @@ fn bridge(b: &BridgeSection) -> Result<Bridge> {
         positive(&format!("bridge.spans_m[{i}]"), l)?;
     }
     let kilo = |key: &str, v: f64| positive(key, v).map(|v| v * 1e3);
-    Ok(Bridge {
+    let bridge = Bridge {
         section: BeamSection {
             youngs_modulus: kilo(
                 "bridge.youngs_modulus_kN_per_m2",
@@ -551,7 +639,9 @@ fn bridge(b: &BridgeSection) -> Result<Bridge> {
                 .transpose()?,
         },
         spans: b.spans_m.clone(),
-    })
+    };
+    plausible_section("bridge", &bridge.section)?;
+    Ok(bridge)
 }
 
 /// Rayleigh coefficients with damping ratio `ratio` at `f1_Hz` and `f2_Hz`:
@@ -611,15 +701,39 @@ fn viaduct(b: &BridgeSection, girders: &Bridge, elements: usize) -> Result<Optio
     }
     let kilo = |key: &str, v: f64| positive(key, v).map(|v| v * 1e3);
     let be = b.bearings.as_ref().ok_or_else(|| need("bearings"))?;
+    // Below 1 kN/m a bearing holds nothing (the span's weight would sink it by kilometres) and
+    // the viaduct's stiffness is singular to f64; elastomeric and pot bearings are 1e5–1e7.
+    let bearing = |key: &str, v: f64| {
+        within(
+            key,
+            positive(key, v)?,
+            1.0,
+            1e9,
+            "kN/m: 1 kN/m holds no span",
+        )
+        .map(|v| v * 1e3)
+    };
     let bearings = BearingSpec {
-        vertical: kilo("bridge.bearings.vertical_kN_per_m", be.vertical_kN_per_m)?,
-        spacing: positive("bridge.bearings.spacing_m", be.spacing_m)?,
-        lateral: kilo("bridge.bearings.lateral_kN_per_m", be.lateral_kN_per_m)?,
-        longitudinal: kilo(
+        vertical: bearing("bridge.bearings.vertical_kN_per_m", be.vertical_kN_per_m)?,
+        spacing: within(
+            "bridge.bearings.spacing_m",
+            positive("bridge.bearings.spacing_m", be.spacing_m)?,
+            0.1,
+            100.0,
+            "m: the two bearings of an end stand under the girder",
+        )?,
+        lateral: bearing("bridge.bearings.lateral_kN_per_m", be.lateral_kN_per_m)?,
+        longitudinal: bearing(
             "bridge.bearings.longitudinal_kN_per_m",
             be.longitudinal_kN_per_m,
         )?,
-        drop: non_negative("bridge.bearings.drop_m", be.drop_m)?,
+        drop: within(
+            "bridge.bearings.drop_m",
+            non_negative("bridge.bearings.drop_m", be.drop_m)?,
+            0.0,
+            20.0,
+            "m: the girder's centroid lies within its own depth above the bearings",
+        )?,
     };
     let p = b.pier.as_ref().ok_or_else(|| need("pier"))?;
     let pier = PierSpec {
@@ -641,17 +755,36 @@ fn viaduct(b: &BridgeSection, girders: &Bridge, elements: usize) -> Result<Optio
             mass_per_length: kilo("bridge.pier.mass_t_per_m", p.mass_t_per_m)?,
             polar_mass: None,
         },
-        height: positive("bridge.pier.height_m", p.height_m)?,
+        height: within(
+            "bridge.pier.height_m",
+            positive("bridge.pier.height_m", p.height_m)?,
+            0.5,
+            300.0,
+            "m: a plinth to the tallest viaduct piers (under 250 m)",
+        )?,
         elements: bounded("bridge.pier.elements", p.elements, 1, MAX_PIER_ELEMENTS)?,
         cap_mass: non_negative("bridge.pier.cap_mass_t", p.cap_mass_t)? * 1e3,
     };
+    plausible_section("bridge.pier", &pier.section)?;
     let so = b.soil.as_ref().ok_or_else(|| need("soil"))?;
     let soil = Soil {
-        shear_wave_velocity: positive(
+        shear_wave_velocity: within(
             "bridge.soil.shear_wave_velocity_m_per_s",
-            so.shear_wave_velocity_m_per_s,
+            positive(
+                "bridge.soil.shear_wave_velocity_m_per_s",
+                so.shear_wave_velocity_m_per_s,
+            )?,
+            10.0,
+            5000.0,
+            "m/s: peat (about 30) to hard rock (about 3500)",
         )?,
-        density: kilo("bridge.soil.density_t_per_m3", so.density_t_per_m3)?,
+        density: within(
+            "bridge.soil.density_t_per_m3",
+            positive("bridge.soil.density_t_per_m3", so.density_t_per_m3)?,
+            0.5,
+            5.0,
+            "t/m³: peat (about 1) to dense rock (about 3)",
+        )? * 1e3,
         poisson: so.poisson,
     };
     if !(0.0..0.5).contains(&soil.poisson) {
@@ -663,8 +796,8 @@ fn viaduct(b: &BridgeSection, girders: &Bridge, elements: usize) -> Result<Optio
     let f = b.footing.as_ref().ok_or_else(|| need("footing"))?;
     let foundation = FoundationSpec::footing(
         &soil,
-        positive("bridge.footing.along_x_m", f.along_x_m)?,
-        positive("bridge.footing.across_y_m", f.across_y_m)?,
+        footing_size("bridge.footing.along_x_m", f.along_x_m)?,
+        footing_size("bridge.footing.across_y_m", f.across_y_m)?,
         positive("bridge.footing.thickness_m", f.thickness_m)?,
         kilo("bridge.footing.density_t_per_m3", f.density_t_per_m3)?,
     )?;
@@ -680,6 +813,18 @@ fn viaduct(b: &BridgeSection, girders: &Bridge, elements: usize) -> Result<Optio
     };
     spec.validate()?;
     Ok(Some(spec))
+}
+
+/// A footing's plan dimension (m): at least 0.1 m (a smaller one has no stiffness in f64) and at
+/// most 100 m.
+fn footing_size(key: &str, v: f64) -> Result<f64> {
+    within(
+        key,
+        positive(key, v)?,
+        0.1,
+        100.0,
+        "m: a post's base to a raft",
+    )
 }
 
 /// Refuses FE discretisations whose Newmark matrix cannot be solved to useful precision or
@@ -738,6 +883,12 @@ pub const MAX_RECORD_BYTES: f64 = 4.0 * 1024.0 * 1024.0 * 1024.0;
 /// 10 m/s needs 5·10⁷.
 pub const MAX_SUB_STEPS: f64 = 1e11;
 
+/// The most rail a run may sample its irregularity on (m): 500 km, 10⁸ points of
+/// [`crate::profile::GRID`] in each of two tables (1.6 GB) and about 10 s of synthesis; the
+/// paper-5 train at 150 m/s passes about 3 km. The extent is what the wheels pass: the train's
+/// length plus speed × t_end (a speed of 9e8 m/s asked for 3.6e6 km and ran out of memory).
+pub const MAX_PROFILE_M: f64 = 5e5;
+
 /// What a run will record and compute per step, known before anything is allocated.
 struct Budget<'a> {
     /// Time steps, the t = 0 row included.
@@ -747,6 +898,9 @@ struct Budget<'a> {
     sub_steps: f64,
     /// Columns `output.probes` asks for (0: the default seven).
     columns: usize,
+    /// Rail the irregularity is sampled on (m): speed × t_end and the train's length; 0
+    /// without irregularity.
+    profile: (f64, f64),
 }
 
 /// The train's size key, its wheels and contacts (rail points recorded per step), and its
@@ -809,6 +963,23 @@ fn check_budget(b: &Budget) -> Result<()> {
             ),
         ));
     }
+    let (travel, length) = b.profile;
+    if !(travel + length <= MAX_PROFILE_M) {
+        let key = match b.train {
+            _ if travel >= length => "run.speed_m_per_s (with run.t_end_s)",
+            TrainCase::Fig1 { .. } => "vehicle.half_length_m (with car_length_m and repeat)",
+            TrainCase::Forces(_) => "train.offsets_m",
+            _ => size_key,
+        };
+        return Err(Error::invalid(
+            key,
+            format!(
+                "the irregularity would be sampled on {:.3e} m of rail (speed × t_end {travel:.3e} m, \
+                 train {length:.3e} m), above the limit of {MAX_PROFILE_M:.0e} m",
+                travel + length
+            ),
+        ));
+    }
     let work = b.steps * magnets * b.sub_steps;
     if work > MAX_SUB_STEPS {
         return Err(Error::invalid(
@@ -844,6 +1015,18 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
             car_length_m,
         }) => {
             let kilo = |key: &str, v: f64| positive(key, v).map(|v| v * 1e3);
+            // A body lighter than 1 kg (or an inertia under 1 kg·m²) leaves its effective
+            // stiffness singular to f64 beside the suspension's.
+            let body = |key: &str, v: f64, unit: &str| {
+                within(
+                    key,
+                    positive(key, v)?,
+                    1e-3,
+                    1e6,
+                    &format!("{unit}: 1 kg to 1000 cars"),
+                )
+                .map(|v| v * 1e3)
+            };
             if !(*wheel_mass_kg >= 0.0 && wheel_mass_kg.is_finite()) {
                 return Err(Error::invalid(
                     "vehicle.wheel_mass_kg",
@@ -851,17 +1034,35 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
                 ));
             }
             let car = Fig1 {
-                body_mass: kilo("vehicle.body_mass_t", *body_mass_t)?,
-                jx: kilo("vehicle.jx_t_m2", *jx_t_m2)?,
-                jy: kilo("vehicle.jy_t_m2", *jy_t_m2)?,
-                jz: kilo("vehicle.jz_t_m2", *jz_t_m2)?,
+                body_mass: body("vehicle.body_mass_t", *body_mass_t, "t")?,
+                jx: body("vehicle.jx_t_m2", *jx_t_m2, "t·m²")?,
+                jy: body("vehicle.jy_t_m2", *jy_t_m2, "t·m²")?,
+                jz: body("vehicle.jz_t_m2", *jz_t_m2, "t·m²")?,
                 k: kilo("vehicle.spring_kN_per_m", *spring_kN_per_m)?,
                 c: kilo("vehicle.damper_kN_s_per_m", *damper_kN_s_per_m)?,
-                half_length: positive("vehicle.half_length_m", *half_length_m)?,
-                half_width: finite("vehicle.half_width_m", *half_width_m)?,
+                half_length: within(
+                    "vehicle.half_length_m",
+                    positive("vehicle.half_length_m", *half_length_m)?,
+                    0.05,
+                    100.0,
+                    "m: a bogie's half wheelbase to a long car's",
+                )?,
+                half_width: within(
+                    "vehicle.half_width_m",
+                    finite("vehicle.half_width_m", *half_width_m)?,
+                    0.05,
+                    10.0,
+                    "m: the magnets left and right of the centre; 0 leaves roll unsupported",
+                )?,
                 offset_y: finite("vehicle.offset_y_m", *offset_y_m)?,
                 target_height: finite("vehicle.target_height_m", *target_height_m)?,
-                body_height: finite("vehicle.body_height_m", *body_height_m)?,
+                body_height: within(
+                    "vehicle.body_height_m",
+                    finite("vehicle.body_height_m", *body_height_m)?,
+                    -20.0,
+                    20.0,
+                    "m: within a car's height of the magnets",
+                )?,
                 wheel_mass: *wheel_mass_kg,
                 com_ahead: 0.0,
             };
@@ -1074,6 +1275,16 @@ fn controller(sc: &Scenario, dt: f64) -> Result<Params> {
         if v.is_finite() {
             in_range(key, v)?;
         }
+    }
+    if c.h0_m > 0.0 && c.h0_m.is_finite() {
+        // Smaller gaps make the sub-step coefficients of Eq. 14 overflow (h/τ = inf at 1e-300).
+        within(
+            "controller.h0_m",
+            c.h0_m,
+            1e-4,
+            1.0,
+            "m: a tenth of a millimetre to a metre; EMS gaps are 8–10 mm",
+        )?;
     }
     p.validate().map_err(controller_error)?;
     Ok(p)

@@ -180,3 +180,13 @@ mod tests {
         assert_eq!(codes, [1, 3, 2, 2]);
     }
 }
+
+/// `v` for an error message: as written for ordinary magnitudes, in exponent form otherwise
+/// (`{}` of 1e-300 is 300 digits: one line, but not a readable one).
+pub fn shown(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}

@@ -254,3 +254,70 @@ fn unconverged_steps_fail_the_check_with_the_outputs_written() {
         String::from_utf8_lossy(&o.stderr)
     );
 }
+
+/// Values that pass the sign checks but broke the numerics under them: each failed naming no
+/// key ("viaduct stiffness: matrix is not positive definite", "controller: f64 cannot
+/// represent …"), or ran out of memory or time sampling the irregularity (speed 9e8 m/s ran
+/// past 30 s; half_length_m = 9e8 aborted). Now each is one line naming its key, before the
+/// run (docs/scenarios.md, "Plausible ranges"), and a tiny value prints as an exponent.
+#[test]
+fn implausible_values_are_refused_naming_their_key() {
+    let cases: [(&str, &str, &str); 8] = [
+        (
+            "paper-4.2",
+            "bridge.shear_modulus_kN_per_m2=1e-12",
+            "bridge.shear_modulus_kN_per_m2",
+        ),
+        (
+            "paper-4.2",
+            "bridge.mass_t_per_m=1e-12",
+            "bridge.mass_t_per_m",
+        ),
+        (
+            "paper-4.2",
+            "vehicle.half_width_m=0",
+            "vehicle.half_width_m",
+        ),
+        ("paper-4.2", "controller.h0_m=1e-300", "controller.h0_m"),
+        ("paper-4.2", "speed=9e8", "run.speed_m_per_s"),
+        (
+            "paper-4.2",
+            "vehicle.half_length_m=9e8",
+            "vehicle.half_length_m",
+        ),
+        (
+            "paper-5",
+            "bridge.bearings.lateral_kN_per_m=1e-12",
+            "bridge.bearings.lateral_kN_per_m",
+        ),
+        (
+            "paper-5",
+            "bridge.footing.along_x_m=1e-300",
+            "bridge.footing.along_x_m",
+        ),
+    ];
+    for (scenario, set, key) in cases {
+        let out = scratch("implausible");
+        let o = maglev_within(
+            &[
+                "run",
+                scenario,
+                "--set",
+                set,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            Duration::from_secs(30),
+        );
+        let e = one_error_line(&o, 2);
+        assert!(
+            e.starts_with(&format!("maglev: error: {key}")),
+            "{set}: {e}"
+        );
+        assert!(e.len() < 300, "{set}: {e}");
+        assert!(!out.exists(), "{set}: a refused run wrote its outputs");
+    }
+    let o = maglev(&["run", "paper-4.2", "--set", "speed=-1e-300"]);
+    let e = one_error_line(&o, 2);
+    assert!(e.ends_with("got -1e-300"), "{e}");
+}

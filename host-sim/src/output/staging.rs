@@ -258,8 +258,17 @@ pub fn write_atomic(path: &Path, text: &[u8]) -> Result<()> {
         std::process::id(),
         std::thread::current().id()
     ));
-    std::fs::write(&tmp, text).map_err(|e| Error::io(&tmp, e))?;
-    std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
+    // Listed while it exists, so a signal removes it as it does a staging directory.
+    let written = interrupt::register(&tmp, || std::fs::write(&tmp, text));
+    let mut active = interrupt::hold();
+    let done = written
+        .map_err(|e| Error::io(&tmp, e))
+        .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e)));
+    if done.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    active.retain(|d| d != &tmp);
+    done
 }
 
 impl Drop for Staging {

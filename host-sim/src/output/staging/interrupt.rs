@@ -3,14 +3,15 @@
 //!
 //! Why: a staging directory is removed when its [`super::Staging`] is dropped, which an
 //! error reaches but a signal does not: every interrupted run left its `.OUT.partial-PID/`
-//! behind. A thread waits for the signals (signal-hook: libc and its registry, smaller than
+//! behind (and an atomic write its `.NAME.tmp-…` file). A thread waits for the signals (signal-hook: libc and its registry, smaller than
 //! ctrlc's nix); the directories are listed here while they exist. [`hold`] keeps a signal
 //! from removing a directory while it is being renamed into place.
 
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard};
 
-/// The staging directories of this process that exist now.
+/// The staging directories (and `write_atomic`'s temporary files) of this process that exist
+/// now.
 static ACTIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
 fn active() -> MutexGuard<'static, Vec<PathBuf>> {
@@ -35,11 +36,17 @@ pub fn install() {
     });
 }
 
-/// Removes every listed directory (a few tries: the run may be creating a file in it).
-fn remove_all(dirs: &mut Vec<PathBuf>) {
-    for d in dirs.drain(..) {
+/// Removes every listed directory or file (a few tries: the run may be creating a file in
+/// a directory).
+fn remove_all(paths: &mut Vec<PathBuf>) {
+    for d in paths.drain(..) {
         for _ in 0..3 {
-            if std::fs::remove_dir_all(&d).is_ok() || !d.exists() {
+            let removed = if d.is_dir() {
+                std::fs::remove_dir_all(&d)
+            } else {
+                std::fs::remove_file(&d)
+            };
+            if removed.is_ok() || !d.exists() {
                 break;
             }
         }
@@ -63,4 +70,23 @@ pub fn unregister(dir: &Path) {
 /// Holds signals off (their cleanup waits) while the guard lives.
 pub fn hold() -> MutexGuard<'static, Vec<PathBuf>> {
     active()
+}
+
+#[cfg(test)]
+mod tests {
+    /// What a signal removes: staging directories and `write_atomic`'s temporary files (a
+    /// file was left behind: `remove_dir_all` does not remove files).
+    #[test]
+    fn a_signal_removes_listed_files_and_directories() {
+        let base = std::env::temp_dir().join(format!("maglev-interrupt-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&base);
+        std::fs::create_dir_all(base.join("dir")).unwrap();
+        std::fs::write(base.join("dir/x.csv"), "t\n").unwrap();
+        std::fs::write(base.join(".f.tmp-1"), "t\n").unwrap();
+        let mut listed = vec![base.join("dir"), base.join(".f.tmp-1")];
+        super::remove_all(&mut listed);
+        assert!(!base.join("dir").exists());
+        assert!(!base.join(".f.tmp-1").exists());
+        std::fs::remove_dir_all(&base).unwrap();
+    }
 }
