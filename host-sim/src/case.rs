@@ -964,7 +964,8 @@ fn check_budget(b: &Budget) -> Result<()> {
         ));
     }
     let (travel, length) = b.profile;
-    if !(travel + length <= MAX_PROFILE_M) {
+    let rail = travel + length;
+    if rail.is_nan() || rail > MAX_PROFILE_M {
         let key = match b.train {
             _ if travel >= length => "run.speed_m_per_s (with run.t_end_s)",
             TrainCase::Fig1 { .. } => "vehicle.half_length_m (with car_length_m and repeat)",
@@ -974,9 +975,8 @@ fn check_budget(b: &Budget) -> Result<()> {
         return Err(Error::invalid(
             key,
             format!(
-                "the irregularity would be sampled on {:.3e} m of rail (speed × t_end {travel:.3e} m, \
-                 train {length:.3e} m), above the limit of {MAX_PROFILE_M:.0e} m",
-                travel + length
+                "the irregularity would be sampled on {rail:.3e} m of rail (speed × t_end \
+                 {travel:.3e} m, train {length:.3e} m), above the limit of {MAX_PROFILE_M:.0e} m"
             ),
         ));
     }

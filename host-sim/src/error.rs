@@ -124,6 +124,16 @@ pub fn excerpt(message: &str) -> String {
 /// `Result` with the library's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
+/// `v` for an error message: as written for ordinary magnitudes, in exponent form otherwise
+/// (`{}` of 1e-300 is 300 digits: one line, but not a readable one).
+pub fn shown(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -178,15 +188,5 @@ mod tests {
         .map(Error::exit_code)
         .collect();
         assert_eq!(codes, [1, 3, 2, 2]);
-    }
-}
-
-/// `v` for an error message: as written for ordinary magnitudes, in exponent form otherwise
-/// (`{}` of 1e-300 is 300 digits: one line, but not a readable one).
-pub fn shown(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&v.abs()) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
     }
 }
