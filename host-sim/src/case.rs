@@ -19,7 +19,7 @@ use crate::guideway::{BeamSection, Bridge};
 use crate::probes::{Extent, Probes};
 use crate::scenario::{self, BridgeKind, BridgeSection, Model, Scenario, VehicleSection};
 use crate::simulation::MovingLoad;
-use crate::vehicle::{Fig1, Train, VehicleModel};
+use crate::vehicle::{Fig1, Train, Unit, VehicleModel};
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
@@ -76,6 +76,8 @@ pub enum TrainCase {
     /// Constant vertical moving loads (a `forces` train or the single `moving-force`), the
     /// leading load at x = 0 at t = 0 and every other behind it.
     Forces(Vec<MovingLoad>),
+    /// One levitation unit (`kind = "unit"`), at its position at t = 0.
+    Unit(Unit),
 }
 
 /// A scenario resolved to SI and checked (module docs).
@@ -139,7 +141,8 @@ impl Case {
     /// Resolves and checks `sc` (module docs).
     pub fn new(sc: Scenario) -> Result<Case> {
         let r = &sc.run;
-        let speed = positive("run.speed_m_per_s", r.speed_m_per_s)?;
+        // 0 is standstill (then run.t_end_s is needed below).
+        let speed = non_negative("run.speed_m_per_s", r.speed_m_per_s)?;
         let dt = positive("run.dt_s", r.dt_s)?;
         let tolerance = positive("run.tolerance_m", r.tolerance_m)?;
         at_least("run.elements_per_span", r.elements_per_span, 1)?;
@@ -171,7 +174,7 @@ impl Case {
         let (train, geometry) = train(&sc.vehicle)?;
         let controller = match (&sc.controller, &train) {
             (Some(_), _) => Some(controller(&sc, dt)?),
-            (None, TrainCase::Fig1 { .. } | TrainCase::Maglev { .. }) => {
+            (None, TrainCase::Fig1 { .. } | TrainCase::Maglev { .. } | TrainCase::Unit(_)) => {
                 return Err(Error::invalid(
                     "controller",
                     "a train with magnets needs a [controller] section",
@@ -179,10 +182,15 @@ impl Case {
             }
             (None, TrainCase::Forces(_) | TrainCase::WheelRail { .. }) => None,
         };
-        let t_end = match r.t_end_s {
-            Some(t) => positive("run.t_end_s", t)?,
-            None => (bridge.total_length() + train_length(&train)) / speed + 0.1,
-        };
+        let t_end =
+            match r.t_end_s {
+                Some(t) => positive("run.t_end_s", t)?,
+                None if speed == 0.0 => return Err(Error::invalid(
+                    "run.t_end_s",
+                    "is needed when run.speed_m_per_s = 0 (standstill: nothing leaves the bridge)",
+                )),
+                None => (bridge.total_length() + train_length(&train)) / speed + 0.1,
+            };
         let steps = t_end / dt;
         if steps.is_nan() || steps > MAX_STEPS {
             return Err(Error::invalid(
@@ -285,6 +293,7 @@ impl Case {
             } => Train::fig1_repeated(car, *cars, *car_length, GRAVITY).map(Some),
             TrainCase::Maglev { cars, .. } => Train::fig6(*cars, GRAVITY).map(Some),
             TrainCase::WheelRail { cars, .. } => Train::wheel_rail(*cars, GRAVITY).map(Some),
+            TrainCase::Unit(u) => Ok(Some(VehicleModel::unit(u, GRAVITY)?.into())),
             TrainCase::Forces(_) => Ok(None),
         }
     }
@@ -349,6 +358,14 @@ impl Case {
             } => json!({
                 "kind": "wheel-rail", "cars": cars, "contacts": nodes, "length_m": length,
                 "car": "wheel/rail car, docs/cars.md",
+            }),
+            TrainCase::Unit(u) => json!({
+                "kind": "unit",
+                "magnet_mass_kg": u.magnet_mass,
+                "body_mass_kg": u.body_mass,
+                "spring_N_per_m": u.k,
+                "damper_N_s_per_m": u.c,
+                "position_m": u.position,
             }),
             TrainCase::Forces(loads) => json!({
                 "kind": "forces",
@@ -756,6 +773,7 @@ fn train_size(t: &TrainCase) -> (&'static str, f64, f64) {
         TrainCase::Fig1 { cars, .. } => ("train.repeat", 4.0 * *cars as f64, 12.0 * *cars as f64),
         TrainCase::Maglev { nodes, .. } => ("train.cars", *nodes as f64, 3.0 * *nodes as f64),
         TrainCase::WheelRail { nodes, .. } => ("train.cars", *nodes as f64, 0.0),
+        TrainCase::Unit(_) => ("vehicle.kind", 1.0, 1.0),
         TrainCase::Forces(_) => ("train.loads_kN", 0.0, 0.0),
     }
 }
@@ -920,6 +938,7 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
                 Geometry::Paper,
             ))
         }
+        VehicleSection::Unit(keys) => Ok((TrainCase::Unit(unit(keys)?), keys.geometry)),
         VehicleSection::MovingForce(scenario::MovingForceKeys {
             force_kN,
             offset_y_m,
@@ -951,6 +970,25 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
             Geometry::Paper,
         )),
     }
+}
+
+/// The unit of `kind = "unit"` in SI: a magnet with mass; with a body, a spring and a damper.
+fn unit(u: &scenario::UnitKeys) -> Result<Unit> {
+    let unit = Unit {
+        magnet_mass: positive("vehicle.magnet_mass_kg", u.magnet_mass_kg)?,
+        body_mass: non_negative("vehicle.body_mass_t", u.body_mass_t)? * 1e3,
+        k: non_negative("vehicle.spring_kN_per_m", u.spring_kN_per_m)? * 1e3,
+        c: non_negative("vehicle.damper_kN_s_per_m", u.damper_kN_s_per_m)? * 1e3,
+        position: finite("vehicle.position_m", u.position_m)?,
+    };
+    if unit.body_mass > 0.0 && unit.k == 0.0 {
+        return Err(Error::invalid(
+            "vehicle.spring_kN_per_m",
+            "must be positive when the unit carries a body (body_mass_t > 0)",
+        ));
+    }
+    VehicleModel::unit(&unit, GRAVITY)?;
+    Ok(unit)
 }
 
 /// The loads of a `forces` train in SI, the leading load at x = 0 at t = 0 and every other
@@ -1027,6 +1065,7 @@ fn train_length(t: &TrainCase) -> f64 {
         } => 2.0 * car.half_length + (cars - 1) as f64 * car_length,
         TrainCase::Maglev { length, .. } | TrainCase::WheelRail { length, .. } => *length,
         TrainCase::Forces(f) => f.iter().map(|l| -l.x0).fold(0.0, f64::max),
+        TrainCase::Unit(_) => 0.0,
     }
 }
 
@@ -1149,6 +1188,12 @@ fn law(
                     .map_err(|e| Error::invalid("controller.law", e.to_string()))?
                     .gains
             }
+            TrainCase::Unit(u) => {
+                let v = VehicleModel::unit(u, GRAVITY)?;
+                crate::stability::design::design(&v, controller, geometry, Some(dt))
+                    .map_err(|e| Error::invalid("controller.law", e.to_string()))?
+                    .gains
+            }
             TrainCase::Forces(_) | TrainCase::WheelRail { .. } => GapParams::designed(),
         })),
     }
@@ -1181,6 +1226,12 @@ fn probes(sc: &Scenario, bridge: &Bridge, train: &TrainCase) -> Result<Probes> {
             wheels: f.len(),
             cars: 0,
             magnets: false,
+        },
+        TrainCase::Unit(_) => Extent {
+            spans,
+            wheels: 1,
+            cars: 1,
+            magnets: true,
         },
     };
     Probes::new(sc.output.as_ref().map(|o| o.probes.as_slice()), &extent)
@@ -1312,6 +1363,36 @@ mod tests {
         }
         let e = Case::load("train-forces", &["train.offsets_m=[0.0]".into()]).unwrap_err();
         assert!(e.to_string().starts_with("train.loads_kN"), "{e}");
+    }
+
+    /// The unit stands still only for a given time; its keys are bounded and named.
+    #[test]
+    fn a_unit_at_standstill() {
+        let c = Case::load("unit", &[]).unwrap();
+        assert_eq!((c.speed, c.t_end), (0.0, 2.0));
+        let TrainCase::Unit(u) = &c.train else {
+            panic!("unit is a unit case")
+        };
+        assert_eq!(
+            (u.magnet_mass, u.body_mass, u.position),
+            (600.0, 3750.0, 10.0)
+        );
+        assert_eq!(c.vehicle_train().unwrap().unwrap().p0[0], 4350.0 * GRAVITY);
+        for (set, key) in [
+            ("run.t_end_s=nan", "run.t_end_s"),
+            ("vehicle.magnet_mass_kg=0", "vehicle.magnet_mass_kg"),
+            ("vehicle.body_mass_t=-1", "vehicle.body_mass_t"),
+            ("vehicle.spring_kN_per_m=0", "vehicle.spring_kN_per_m"),
+            ("vehicle.position_m=1e10", "vehicle.position_m"),
+            ("speed=-1", "run.speed_m_per_s"),
+        ] {
+            let e = Case::load("unit", &[set.into()]).unwrap_err().to_string();
+            assert!(e.starts_with(key), "{set}: {e}");
+        }
+        let mut sc = scenario::load("unit", &[]).unwrap();
+        sc.run.t_end_s = None;
+        let e = Case::new(sc).unwrap_err().to_string();
+        assert!(e.starts_with("run.t_end_s") && e.contains("= 0"), "{e}");
     }
 
     /// The bundled paper-5 scenario is `fe::paper5_viaduct()` in the file's units.

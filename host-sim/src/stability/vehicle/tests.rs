@@ -287,7 +287,7 @@ fn bare_magnet(m: f64) -> VehicleModel {
             x0: 0.0,
             ey: 0.0,
             ez: 0.0,
-            dof_y: 0,
+            dof_y: Some(0),
             dof_z: 1,
         }],
         p0: vec![w],
