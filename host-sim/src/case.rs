@@ -23,6 +23,7 @@ use crate::vehicle::{Fig1, Train, Unit, VehicleModel};
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
+use maglev_core::law::state::StateParams;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::{LawKind, LawName, Params, Scheme};
 
@@ -80,6 +81,18 @@ pub enum TrainCase {
     Unit(Unit),
 }
 
+/// The levitation law as the input gives it: given, or to be designed from the case's plant
+/// by the step between the case and the simulation (`crate::design::resolve`; the input
+/// layer runs no design).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LawChoice {
+    Given(LawKind),
+    /// The gap loop's gains, designed for the case's vehicle (docs/gap-loop.md).
+    DesignGapLoop,
+    /// The state law's gains, designed (docs/levitation.md); timing and supply as given.
+    DesignState(StateParams),
+}
+
 /// A scenario resolved to SI and checked (module docs).
 #[derive(Clone, Debug)]
 pub struct Case {
@@ -108,8 +121,8 @@ pub struct Case {
     /// The magnets' controller (p0 is set per magnet from its car's statics); `None` for a
     /// train without magnets (forces, wheel/rail), whose scenario needs no `[controller]`.
     pub controller: Option<Params>,
-    /// The levitation law, gap-loop gains designed for this vehicle (docs/gap-loop.md).
-    pub law: LawKind,
+    /// The levitation law, or what to design (`crate::design::resolve`).
+    pub law: LawChoice,
     pub geometry: Geometry,
     /// The irregularity's seed, when the irregularity is on.
     pub irregularity_seed: Option<u64>,
@@ -200,7 +213,7 @@ impl Case {
                 ),
             ));
         }
-        let law = law(&sc, &train, controller.as_ref(), geometry, dt)?;
+        let law = law(&sc, &train, controller.as_ref(), geometry)?;
         check_budget(&Budget {
             steps: steps.round() + 1.0,
             train: &train,
@@ -298,6 +311,16 @@ impl Case {
         }
     }
 
+    /// The law to run; an error if it is still to be designed (`crate::design::resolve`).
+    pub fn law(&self) -> Result<LawKind> {
+        match self.law {
+            LawChoice::Given(k) => Ok(k),
+            _ => Err(Error::numerical(
+                "internal: the law's gains are designed after the case (design::resolve)",
+            )),
+        }
+    }
+
     /// The controller's nominal gap h0 (m); 0 for a train of forces (no gaps).
     pub fn h0(&self) -> f64 {
         self.controller.map_or(0.0, |p| p.h0)
@@ -382,7 +405,11 @@ impl Case {
                 "vmax_V": p.v_max, "scheme": p.scheme.as_str(),
             })
         });
-        let law = law_record(&self.law);
+        let law = match &self.law {
+            LawChoice::Given(k) => law_record(k),
+            LawChoice::DesignGapLoop => json!({"kind": "gap-loop", "design": "pending"}),
+            LawChoice::DesignState(_) => json!({"kind": "state", "design": "pending"}),
+        };
         let mut record = json!({
             "model": format!("{:?}", self.model).to_lowercase(),
             "speed_m_per_s": self.speed,
@@ -781,8 +808,8 @@ fn train_size(t: &TrainCase) -> (&'static str, f64, f64) {
 /// Sub-steps of one magnet update: the state law's control periods, else the paper scheme's
 /// `n_sub` or the accurate scheme's Gauss intervals
 /// (`maglev_core::levitation::accurate::intervals` at the case's step).
-fn sub_steps(p: &Params, law: &LawKind, dt: f64) -> f64 {
-    if let LawKind::State(s) = law {
+fn sub_steps(p: &Params, law: &LawChoice, dt: f64) -> f64 {
+    if let LawChoice::Given(LawKind::State(s)) | LawChoice::DesignState(s) = law {
         return s.periods(dt) as f64;
     }
     match p.scheme {
@@ -1142,61 +1169,111 @@ fn controller_error(e: maglev_core::ParamError) -> Error {
     Error::invalid(key, e.to_string())
 }
 
-/// The levitation law (`controller.law`); the paper's without a controller section.
+/// The levitation law (`controller.law`); the paper's without a controller section. Designs
+/// are left to `crate::design::resolve`.
 fn law(
     sc: &Scenario,
     train: &TrainCase,
     controller: Option<&Params>,
     geometry: Geometry,
-    dt: f64,
-) -> Result<LawKind> {
-    let (key, controller) = match (sc.controller.as_ref(), controller) {
-        (Some(c), Some(p)) => (c.law, p),
-        _ => return Ok(LawKind::Paper),
+) -> Result<LawChoice> {
+    let Some((c, Some(_))) = sc.controller.as_ref().map(|c| (c, controller)) else {
+        return Ok(LawChoice::Given(LawKind::Paper));
     };
-    match key {
-        LawName::Paper => Ok(LawKind::Paper),
-        LawName::State => {
-            let gains = sc
-                .controller
-                .as_ref()
-                .and_then(|c| c.state)
-                .ok_or_else(|| {
-                    Error::invalid(
-                        "controller.state",
-                        "law = \"state\" needs its gains: kp_V_per_m, kd_V_s_per_m, \
-                     ka_V_s2_per_m, ki_V_per_m_s, kc_V_per_A, vmax_V (docs/scenarios.md)",
-                    )
-                })?;
-            let law = maglev_core::law::state::StateParams { geometry, ..gains };
-            law.validate()
-                .map_err(|e| Error::invalid("controller.state", e.to_string()))?;
-            Ok(LawKind::State(law))
-        }
-        LawName::GapLoop => Ok(LawKind::GapLoop(match train {
-            // Gains designed for this case's car, inner law and geometry (docs/gap-loop.md);
-            // a train of forces has no magnets to run them.
-            TrainCase::Fig1 { car, .. } => {
-                let v = VehicleModel::fig1(car, GRAVITY)?;
-                crate::stability::design::design(&v, controller, geometry, Some(dt))
-                    .map_err(|e| Error::invalid("controller.law", e.to_string()))?
-                    .gains
+    match c.law {
+        LawName::Paper => Ok(LawChoice::Given(LawKind::Paper)),
+        LawName::State => state_law(c.state.as_ref(), geometry),
+        LawName::GapLoop => Ok(match train {
+            // Designed for this case's vehicle; a train without magnets runs none.
+            TrainCase::Fig1 { .. } | TrainCase::Maglev { .. } | TrainCase::Unit(_) => {
+                LawChoice::DesignGapLoop
             }
-            TrainCase::Maglev { .. } => {
-                let t = Train::fig6(1, GRAVITY)?;
-                crate::stability::design::design(&t.cars[0], controller, geometry, Some(dt))
-                    .map_err(|e| Error::invalid("controller.law", e.to_string()))?
-                    .gains
+            TrainCase::Forces(_) | TrainCase::WheelRail { .. } => {
+                LawChoice::Given(LawKind::GapLoop(GapParams::designed()))
             }
-            TrainCase::Unit(u) => {
-                let v = VehicleModel::unit(u, GRAVITY)?;
-                crate::stability::design::design(&v, controller, geometry, Some(dt))
-                    .map_err(|e| Error::invalid("controller.law", e.to_string()))?
-                    .gains
-            }
-            TrainCase::Forces(_) | TrainCase::WheelRail { .. } => GapParams::designed(),
-        })),
+        }),
     }
+}
+
+/// `[controller.state]`: its gains, or `design = true` (then no gain may be given).
+fn state_law(s: Option<&scenario::StateSection>, geometry: Geometry) -> Result<LawChoice> {
+    let s = s.ok_or_else(|| {
+        Error::invalid(
+            "controller.state",
+            "law = \"state\" needs its gains: kp_V_per_m, kd_V_s_per_m, ka_V_s2_per_m, \
+             ki_V_per_m_s, kc_V_per_A, vmax_V, or design = true (docs/scenarios.md)",
+        )
+    })?;
+    let gains = [
+        ("kp_V_per_m", s.kp_V_per_m),
+        ("kd_V_s_per_m", s.kd_V_s_per_m),
+        ("ka_V_s2_per_m", s.ka_V_s2_per_m),
+        ("ki_V_per_m_s", s.ki_V_per_m_s),
+        ("kc_V_per_A", s.kc_V_per_A),
+    ];
+    for (key, v) in gains.iter().chain(&[
+        ("vmax_V", Some(s.vmax_V)),
+        ("rate_Hz", Some(s.rate_Hz)),
+        ("observer_Hz", Some(s.observer_Hz)),
+    ]) {
+        if let Some(v) = v.filter(|v| v.is_finite()) {
+            in_range(&format!("controller.state.{key}"), v)?;
+        }
+    }
+    let given = |k: &str, v: Option<f64>| {
+        v.ok_or_else(|| {
+            Error::invalid(
+                format!("controller.state.{k}"),
+                "is needed unless design = true (docs/scenarios.md)",
+            )
+        })
+    };
+    let law = StateParams {
+        kp: if s.design {
+            0.0
+        } else {
+            given(gains[0].0, gains[0].1)?
+        },
+        kd: if s.design {
+            0.0
+        } else {
+            given(gains[1].0, gains[1].1)?
+        },
+        ka: if s.design {
+            0.0
+        } else {
+            given(gains[2].0, gains[2].1)?
+        },
+        ki: if s.design {
+            0.0
+        } else {
+            given(gains[3].0, gains[3].1)?
+        },
+        kc: if s.design {
+            0.0
+        } else {
+            given(gains[4].0, gains[4].1)?
+        },
+        v_max: s.vmax_V,
+        rate_hz: s.rate_Hz,
+        observer_hz: s.observer_Hz,
+        geometry,
+    };
+    if s.design {
+        if let Some((k, _)) = gains.iter().find(|(_, v)| v.is_some()) {
+            return Err(Error::invalid(
+                format!("controller.state.{k}"),
+                "is designed with design = true; give the gains or design, not both",
+            ));
+        }
+    }
+    law.validate()
+        .map_err(|e| Error::invalid("controller.state", e.to_string()))?;
+    Ok(if s.design {
+        LawChoice::DesignState(law)
+    } else {
+        LawChoice::Given(LawKind::State(law))
+    })
 }
 
 /// The case's probes (`[output] probes`, else the default columns), checked against it.
@@ -1259,7 +1336,7 @@ mod tests {
         assert_eq!((car.body_mass, car.jy, *cars), (15_000.0, 950e3, 1));
         // (25 m bridge + 15 m wheelbase) / 100 m/s + 0.1 s
         assert!((c.t_end - 0.5).abs() < 1e-12);
-        assert_eq!(c.law, LawKind::Paper);
+        assert_eq!(c.law, LawChoice::Given(LawKind::Paper));
         assert_eq!(c.controller.unwrap().scheme, Scheme::Paper);
         let f = Case::load("moving-force", &[]).unwrap();
         assert_eq!(
@@ -1275,8 +1352,10 @@ mod tests {
 
     #[test]
     fn laws_and_schemes_resolve() {
+        // The input layer leaves the gap loop's design to crate::design::resolve.
         let c = Case::load("paper-4.2", &["law=gap-loop".into()]).unwrap();
-        assert!(matches!(c.law, LawKind::GapLoop(g) if g.kp < 0.0));
+        assert_eq!(c.law, LawChoice::DesignGapLoop);
+        assert!(c.law().is_err());
         let c = Case::load("paper-4.2", &["scheme=accurate".into()]).unwrap();
         assert_eq!(c.controller.unwrap().scheme, Scheme::Accurate);
     }

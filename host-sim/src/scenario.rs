@@ -375,9 +375,37 @@ pub struct ControllerSection {
     /// `paper` (Eq. 14 with `nsub` sub-steps, the default) or `accurate` (Gauss–Legendre).
     #[serde(default)]
     pub scheme: Scheme,
-    /// The state law's gains and timing (`[controller.state]`, keys with their units:
-    /// `maglev_core::law::state::StateParams`), used when `law = "state"`.
-    pub state: Option<StateParams>,
+    /// The state law's gains and timing (`[controller.state]`), used when `law = "state"`.
+    pub state: Option<StateSection>,
+}
+
+/// `[controller.state]`: the state law's gains (units in the keys, as
+/// `maglev_core::law::state::StateParams` names them), or `design = true` to have them
+/// designed from the case's plant (docs/levitation.md); timing and supply either way.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct StateSection {
+    pub kp_V_per_m: Option<f64>,
+    pub kd_V_s_per_m: Option<f64>,
+    pub ka_V_s2_per_m: Option<f64>,
+    pub ki_V_per_m_s: Option<f64>,
+    pub kc_V_per_A: Option<f64>,
+    pub vmax_V: f64,
+    #[serde(default = "rate")]
+    pub rate_Hz: f64,
+    #[serde(default = "observer")]
+    pub observer_Hz: f64,
+    #[serde(default)]
+    pub design: bool,
+}
+
+fn rate() -> f64 {
+    StateParams::RATE_HZ
+}
+
+fn observer() -> f64 {
+    StateParams::OBSERVER_HZ
 }
 
 #[derive(Deserialize, Serialize, Debug, Clone)]

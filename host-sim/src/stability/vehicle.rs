@@ -67,8 +67,9 @@ pub struct VehiclePlant {
 pub struct MagnetLoop {
     /// `lev1`, `guideL1`, …
     pub name: String,
-    /// The magnet's static load (N).
+    /// The magnet's static load (N) and the mass of the node it acts on (kg).
     pub p0: f64,
+    pub mass: f64,
     /// The coil's `x` state and time constant τ (s).
     pub x: usize,
     pub tau: f64,
@@ -254,6 +255,7 @@ impl VehiclePlant {
                 loops.push(MagnetLoop {
                     name: format!("{name}{}", w + 1),
                     p0,
+                    mass: v.m[(dof, dof)],
                     x: at.x,
                     tau: lp.tau,
                     dv,
@@ -365,12 +367,18 @@ pub fn critical_magnet_mass(
     law: &LawKind,
     geometry: Geometry,
 ) -> crate::Result<Option<f64>> {
-    let unstable = |m: f64| -> crate::Result<bool> {
-        Ok(!fig1_with_mass(fig, m, inner, law, geometry)?
-            .verdict()?
-            .stable)
-    };
-    let m0 = fig.wheel_mass;
+    critical_mass(fig.wheel_mass, |m| {
+        fig1_with_mass(fig, m, inner, law, geometry)
+    })
+}
+
+/// [`critical_magnet_mass`] for any vehicle: `build(m)` linearises it with magnet mass `m`,
+/// `m0` the scenario's own.
+pub fn critical_mass(
+    m0: f64,
+    build: impl Fn(f64) -> crate::Result<VehiclePlant>,
+) -> crate::Result<Option<f64>> {
+    let unstable = |m: f64| -> crate::Result<bool> { Ok(!build(m)?.verdict()?.stable) };
     if unstable(m0)? {
         return Ok(Some(m0));
     }
