@@ -25,6 +25,12 @@
 //!    for at most the headroom, `kp·0.1·h0 ≤ V_max − R0·i0`), else the first that meets every
 //!    target (the supply then clamps large errors; the anti-windup holds the integral); none
 //!    is an error naming the worst target of the best candidate.
+//!
+//! # Scope
+//! Magnets without guidance (`kind = "unit"`). On a guided vehicle (Fig. 1, Fig. 6) the two
+//! magnets of each guidance pair see opposite gaps, so the sum of their integrals is fed by
+//! nothing: a pole at exactly 0 whatever the gains, and the pole target cannot be met. The
+//! design refuses such a vehicle; its gains are given (`[controller.state]`).
 
 use super::margins::Margins;
 use super::report::{all_margins, DELAY_PERIODS};
@@ -156,6 +162,15 @@ pub fn design(
         .wheels
         .first()
         .ok_or_else(|| crate::Error::invalid("vehicle", "the state law's design needs a magnet"))?;
+    if v.wheels.iter().any(|w| w.dof_y.is_some()) {
+        // Measured: paper-4.2 under ems at 1000 kg, every candidate keeps 4 poles at 0.
+        return Err(crate::Error::invalid(
+            "controller.state.design",
+            "the design covers magnets without guidance (vehicle kind = \"unit\"): on a \
+             guided vehicle each guidance pair's common-mode integral is a pole at 0 that no \
+             gain moves, so the target max real part ≤ −1 1/s cannot be met; give the gains",
+        ));
+    }
     let mass = v.m[(w.dof_z, w.dof_z)];
     if mass <= 0.0 {
         return Err(crate::Error::invalid(
