@@ -20,10 +20,11 @@ use crate::guideway::{BeamSection, Bridge};
 use crate::probes::{Extent, Probes};
 use crate::scenario::{self, BridgeKind, BridgeSection, Model, Scenario, VehicleSection};
 use crate::simulation::MovingLoad;
-use crate::vehicle::{Fig1, Train, VehicleModel};
+use crate::vehicle::{Fig1, Train, Unit, VehicleModel};
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
+use maglev_core::law::state::StateParams;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::{LawKind, LawName, Params, Scheme};
 
@@ -77,6 +78,20 @@ pub enum TrainCase {
     /// Constant vertical moving loads (a `forces` train or the single `moving-force`), the
     /// leading load at x = 0 at t = 0 and every other behind it.
     Forces(Vec<MovingLoad>),
+    /// One levitation unit (`kind = "unit"`), at its position at t = 0.
+    Unit(Unit),
+}
+
+/// The levitation law as the input gives it: given, or to be designed from the case's plant
+/// by the step between the case and the simulation (`crate::design::resolve`; the input
+/// layer runs no design).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LawChoice {
+    Given(LawKind),
+    /// The gap loop's gains, designed for the case's vehicle (docs/gap-loop.md).
+    DesignGapLoop,
+    /// The state law's gains, designed (docs/levitation.md); timing and supply as given.
+    DesignState(StateParams),
 }
 
 /// A scenario resolved to SI and checked (module docs).
@@ -107,8 +122,8 @@ pub struct Case {
     /// The magnets' controller (p0 is set per magnet from its car's statics); `None` for a
     /// train without magnets (forces, wheel/rail), whose scenario needs no `[controller]`.
     pub controller: Option<Params>,
-    /// The levitation law, gap-loop gains designed for this vehicle (docs/gap-loop.md).
-    pub law: LawKind,
+    /// The levitation law, or what to design (`crate::design::resolve`).
+    pub law: LawChoice,
     pub geometry: Geometry,
     /// The irregularity's seed, when the irregularity is on.
     pub irregularity_seed: Option<u64>,
@@ -140,7 +155,8 @@ impl Case {
     /// Resolves and checks `sc` (module docs).
     pub fn new(sc: Scenario) -> Result<Case> {
         let r = &sc.run;
-        let speed = positive("run.speed_m_per_s", r.speed_m_per_s)?;
+        // 0 is standstill (then run.t_end_s is needed below).
+        let speed = non_negative("run.speed_m_per_s", r.speed_m_per_s)?;
         let dt = positive("run.dt_s", r.dt_s)?;
         let tolerance = positive("run.tolerance_m", r.tolerance_m)?;
         at_least("run.elements_per_span", r.elements_per_span, 1)?;
@@ -172,7 +188,7 @@ impl Case {
         let (train, geometry) = train(&sc.vehicle)?;
         let controller = match (&sc.controller, &train) {
             (Some(_), _) => Some(controller(&sc, dt)?),
-            (None, TrainCase::Fig1 { .. } | TrainCase::Maglev { .. }) => {
+            (None, TrainCase::Fig1 { .. } | TrainCase::Maglev { .. } | TrainCase::Unit(_)) => {
                 return Err(Error::invalid(
                     "controller",
                     "a train with magnets needs a [controller] section",
@@ -180,10 +196,15 @@ impl Case {
             }
             (None, TrainCase::Forces(_) | TrainCase::WheelRail { .. }) => None,
         };
-        let t_end = match r.t_end_s {
-            Some(t) => positive("run.t_end_s", t)?,
-            None => (bridge.total_length() + train_length(&train)) / speed + 0.1,
-        };
+        let t_end =
+            match r.t_end_s {
+                Some(t) => positive("run.t_end_s", t)?,
+                None if speed == 0.0 => return Err(Error::invalid(
+                    "run.t_end_s",
+                    "is needed when run.speed_m_per_s = 0 (standstill: nothing leaves the bridge)",
+                )),
+                None => (bridge.total_length() + train_length(&train)) / speed + 0.1,
+            };
         let steps = t_end / dt;
         if steps.is_nan() || steps > MAX_STEPS {
             return Err(Error::invalid(
@@ -193,7 +214,7 @@ impl Case {
                 ),
             ));
         }
-        let law = law(&sc, &train, controller.as_ref(), geometry, dt)?;
+        let law = law(&sc, &train, controller.as_ref(), geometry)?;
         check_budget(&Budget {
             steps: steps.round() + 1.0,
             train: &train,
@@ -290,7 +311,18 @@ impl Case {
             } => Train::fig1_repeated(car, *cars, *car_length, GRAVITY).map(Some),
             TrainCase::Maglev { cars, .. } => Train::fig6(*cars, GRAVITY).map(Some),
             TrainCase::WheelRail { cars, .. } => Train::wheel_rail(*cars, GRAVITY).map(Some),
+            TrainCase::Unit(u) => Ok(Some(VehicleModel::unit(u, GRAVITY)?.into())),
             TrainCase::Forces(_) => Ok(None),
+        }
+    }
+
+    /// The law to run; an error if it is still to be designed (`crate::design::resolve`).
+    pub fn law(&self) -> Result<LawKind> {
+        match self.law {
+            LawChoice::Given(k) => Ok(k),
+            _ => Err(Error::numerical(
+                "internal: the law's gains are designed after the case (design::resolve)",
+            )),
         }
     }
 
@@ -355,6 +387,14 @@ impl Case {
                 "kind": "wheel-rail", "cars": cars, "contacts": nodes, "length_m": length,
                 "car": "wheel/rail car, docs/cars.md",
             }),
+            TrainCase::Unit(u) => json!({
+                "kind": "unit",
+                "magnet_mass_kg": u.magnet_mass,
+                "body_mass_kg": u.body_mass,
+                "spring_N_per_m": u.k,
+                "damper_N_s_per_m": u.c,
+                "position_m": u.position,
+            }),
             TrainCase::Forces(loads) => json!({
                 "kind": "forces",
                 "loads": loads.iter().map(|l| json!({
@@ -370,7 +410,11 @@ impl Case {
                 "vmax_V": p.v_max, "scheme": p.scheme.as_str(),
             })
         });
-        let law = law_record(&self.law);
+        let law = match &self.law {
+            LawChoice::Given(k) => law_record(k),
+            LawChoice::DesignGapLoop => json!({"kind": "gap-loop", "design": "pending"}),
+            LawChoice::DesignState(_) => json!({"kind": "state", "design": "pending"}),
+        };
         let mut record = json!({
             "model": format!("{:?}", self.model).to_lowercase(),
             "speed_m_per_s": self.speed,
@@ -910,6 +954,7 @@ fn train_size(t: &TrainCase) -> (&'static str, f64, f64) {
         TrainCase::Fig1 { cars, .. } => ("train.repeat", 4.0 * *cars as f64, 12.0 * *cars as f64),
         TrainCase::Maglev { nodes, .. } => ("train.cars", *nodes as f64, 3.0 * *nodes as f64),
         TrainCase::WheelRail { nodes, .. } => ("train.cars", *nodes as f64, 0.0),
+        TrainCase::Unit(_) => ("vehicle.kind", 1.0, 1.0),
         TrainCase::Forces(_) => ("train.loads_kN", 0.0, 0.0),
     }
 }
@@ -917,8 +962,8 @@ fn train_size(t: &TrainCase) -> (&'static str, f64, f64) {
 /// Sub-steps of one magnet update: the state law's control periods, else the paper scheme's
 /// `n_sub` or the accurate scheme's Gauss intervals
 /// (`maglev_core::levitation::accurate::intervals` at the case's step).
-fn sub_steps(p: &Params, law: &LawKind, dt: f64) -> f64 {
-    if let LawKind::State(s) = law {
+fn sub_steps(p: &Params, law: &LawChoice, dt: f64) -> f64 {
+    if let LawChoice::Given(LawKind::State(s)) | LawChoice::DesignState(s) = law {
         return s.periods(dt) as f64;
     }
     match p.scheme {
@@ -1121,6 +1166,7 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
                 Geometry::Paper,
             ))
         }
+        VehicleSection::Unit(keys) => Ok((TrainCase::Unit(unit(keys)?), keys.geometry)),
         VehicleSection::MovingForce(scenario::MovingForceKeys {
             force_kN,
             offset_y_m,
@@ -1152,6 +1198,25 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
             Geometry::Paper,
         )),
     }
+}
+
+/// The unit of `kind = "unit"` in SI: a magnet with mass; with a body, a spring and a damper.
+fn unit(u: &scenario::UnitKeys) -> Result<Unit> {
+    let unit = Unit {
+        magnet_mass: positive("vehicle.magnet_mass_kg", u.magnet_mass_kg)?,
+        body_mass: non_negative("vehicle.body_mass_t", u.body_mass_t)? * 1e3,
+        k: non_negative("vehicle.spring_kN_per_m", u.spring_kN_per_m)? * 1e3,
+        c: non_negative("vehicle.damper_kN_s_per_m", u.damper_kN_s_per_m)? * 1e3,
+        position: finite("vehicle.position_m", u.position_m)?,
+    };
+    if unit.body_mass > 0.0 && unit.k == 0.0 {
+        return Err(Error::invalid(
+            "vehicle.spring_kN_per_m",
+            "must be positive when the unit carries a body (body_mass_t > 0)",
+        ));
+    }
+    VehicleModel::unit(&unit, GRAVITY)?;
+    Ok(unit)
 }
 
 /// The loads of a `forces` train in SI, the leading load at x = 0 at t = 0 and every other
@@ -1228,6 +1293,7 @@ fn train_length(t: &TrainCase) -> f64 {
         } => 2.0 * car.half_length + (cars - 1) as f64 * car_length,
         TrainCase::Maglev { length, .. } | TrainCase::WheelRail { length, .. } => *length,
         TrainCase::Forces(f) => f.iter().map(|l| -l.x0).fold(0.0, f64::max),
+        TrainCase::Unit(_) => 0.0,
     }
 }
 
@@ -1314,55 +1380,111 @@ fn controller_error(e: maglev_core::ParamError) -> Error {
     Error::invalid(key, e.to_string())
 }
 
-/// The levitation law (`controller.law`); the paper's without a controller section.
+/// The levitation law (`controller.law`); the paper's without a controller section. Designs
+/// are left to `crate::design::resolve`.
 fn law(
     sc: &Scenario,
     train: &TrainCase,
     controller: Option<&Params>,
     geometry: Geometry,
-    dt: f64,
-) -> Result<LawKind> {
-    let (key, controller) = match (sc.controller.as_ref(), controller) {
-        (Some(c), Some(p)) => (c.law, p),
-        _ => return Ok(LawKind::Paper),
+) -> Result<LawChoice> {
+    let Some((c, Some(_))) = sc.controller.as_ref().map(|c| (c, controller)) else {
+        return Ok(LawChoice::Given(LawKind::Paper));
     };
-    match key {
-        LawName::Paper => Ok(LawKind::Paper),
-        LawName::State => {
-            let gains = sc
-                .controller
-                .as_ref()
-                .and_then(|c| c.state)
-                .ok_or_else(|| {
-                    Error::invalid(
-                        "controller.state",
-                        "law = \"state\" needs its gains: kp_V_per_m, kd_V_s_per_m, \
-                     ka_V_s2_per_m, ki_V_per_m_s, kc_V_per_A, vmax_V (docs/scenarios.md)",
-                    )
-                })?;
-            let law = maglev_core::law::state::StateParams { geometry, ..gains };
-            law.validate()
-                .map_err(|e| Error::invalid("controller.state", e.to_string()))?;
-            Ok(LawKind::State(law))
-        }
-        LawName::GapLoop => Ok(LawKind::GapLoop(match train {
-            // Gains designed for this case's car, inner law and geometry (docs/gap-loop.md);
-            // a train of forces has no magnets to run them.
-            TrainCase::Fig1 { car, .. } => {
-                let v = VehicleModel::fig1(car, GRAVITY)?;
-                crate::stability::design::design(&v, controller, geometry, Some(dt))
-                    .map_err(|e| Error::invalid("controller.law", e.to_string()))?
-                    .gains
+    match c.law {
+        LawName::Paper => Ok(LawChoice::Given(LawKind::Paper)),
+        LawName::State => state_law(c.state.as_ref(), geometry),
+        LawName::GapLoop => Ok(match train {
+            // Designed for this case's vehicle; a train without magnets runs none.
+            TrainCase::Fig1 { .. } | TrainCase::Maglev { .. } | TrainCase::Unit(_) => {
+                LawChoice::DesignGapLoop
             }
-            TrainCase::Maglev { .. } => {
-                let t = Train::fig6(1, GRAVITY)?;
-                crate::stability::design::design(&t.cars[0], controller, geometry, Some(dt))
-                    .map_err(|e| Error::invalid("controller.law", e.to_string()))?
-                    .gains
+            TrainCase::Forces(_) | TrainCase::WheelRail { .. } => {
+                LawChoice::Given(LawKind::GapLoop(GapParams::designed()))
             }
-            TrainCase::Forces(_) | TrainCase::WheelRail { .. } => GapParams::designed(),
-        })),
+        }),
     }
+}
+
+/// `[controller.state]`: its gains, or `design = true` (then no gain may be given).
+fn state_law(s: Option<&scenario::StateSection>, geometry: Geometry) -> Result<LawChoice> {
+    let s = s.ok_or_else(|| {
+        Error::invalid(
+            "controller.state",
+            "law = \"state\" needs its gains: kp_V_per_m, kd_V_s_per_m, ka_V_s2_per_m, \
+             ki_V_per_m_s, kc_V_per_A, vmax_V, or design = true (docs/scenarios.md)",
+        )
+    })?;
+    let gains = [
+        ("kp_V_per_m", s.kp_V_per_m),
+        ("kd_V_s_per_m", s.kd_V_s_per_m),
+        ("ka_V_s2_per_m", s.ka_V_s2_per_m),
+        ("ki_V_per_m_s", s.ki_V_per_m_s),
+        ("kc_V_per_A", s.kc_V_per_A),
+    ];
+    for (key, v) in gains.iter().chain(&[
+        ("vmax_V", Some(s.vmax_V)),
+        ("rate_Hz", Some(s.rate_Hz)),
+        ("observer_Hz", Some(s.observer_Hz)),
+    ]) {
+        if let Some(v) = v.filter(|v| v.is_finite()) {
+            in_range(&format!("controller.state.{key}"), v)?;
+        }
+    }
+    let given = |k: &str, v: Option<f64>| {
+        v.ok_or_else(|| {
+            Error::invalid(
+                format!("controller.state.{k}"),
+                "is needed unless design = true (docs/scenarios.md)",
+            )
+        })
+    };
+    let law = StateParams {
+        kp: if s.design {
+            0.0
+        } else {
+            given(gains[0].0, gains[0].1)?
+        },
+        kd: if s.design {
+            0.0
+        } else {
+            given(gains[1].0, gains[1].1)?
+        },
+        ka: if s.design {
+            0.0
+        } else {
+            given(gains[2].0, gains[2].1)?
+        },
+        ki: if s.design {
+            0.0
+        } else {
+            given(gains[3].0, gains[3].1)?
+        },
+        kc: if s.design {
+            0.0
+        } else {
+            given(gains[4].0, gains[4].1)?
+        },
+        v_max: s.vmax_V,
+        rate_hz: s.rate_Hz,
+        observer_hz: s.observer_Hz,
+        geometry,
+    };
+    if s.design {
+        if let Some((k, _)) = gains.iter().find(|(_, v)| v.is_some()) {
+            return Err(Error::invalid(
+                format!("controller.state.{k}"),
+                "is designed with design = true; give the gains or design, not both",
+            ));
+        }
+    }
+    law.validate()
+        .map_err(|e| Error::invalid("controller.state", e.to_string()))?;
+    Ok(if s.design {
+        LawChoice::DesignState(law)
+    } else {
+        LawChoice::Given(LawKind::State(law))
+    })
 }
 
 /// The case's probes (`[output] probes`, else the default columns), checked against it.
@@ -1393,6 +1515,12 @@ fn probes(sc: &Scenario, bridge: &Bridge, train: &TrainCase) -> Result<Probes> {
             cars: 0,
             magnets: false,
         },
+        TrainCase::Unit(_) => Extent {
+            spans,
+            wheels: 1,
+            cars: 1,
+            magnets: true,
+        },
     };
     Probes::new(sc.output.as_ref().map(|o| o.probes.as_slice()), &extent)
 }
@@ -1419,7 +1547,7 @@ mod tests {
         assert_eq!((car.body_mass, car.jy, *cars), (15_000.0, 950e3, 1));
         // (25 m bridge + 15 m wheelbase) / 100 m/s + 0.1 s
         assert!((c.t_end - 0.5).abs() < 1e-12);
-        assert_eq!(c.law, LawKind::Paper);
+        assert_eq!(c.law, LawChoice::Given(LawKind::Paper));
         assert_eq!(c.controller.unwrap().scheme, Scheme::Paper);
         let f = Case::load("moving-force", &[]).unwrap();
         assert_eq!(
@@ -1435,8 +1563,10 @@ mod tests {
 
     #[test]
     fn laws_and_schemes_resolve() {
+        // The input layer leaves the gap loop's design to crate::design::resolve.
         let c = Case::load("paper-4.2", &["law=gap-loop".into()]).unwrap();
-        assert!(matches!(c.law, LawKind::GapLoop(g) if g.kp < 0.0));
+        assert_eq!(c.law, LawChoice::DesignGapLoop);
+        assert!(c.law().is_err());
         let c = Case::load("paper-4.2", &["scheme=accurate".into()]).unwrap();
         assert_eq!(c.controller.unwrap().scheme, Scheme::Accurate);
     }
@@ -1523,6 +1653,36 @@ mod tests {
         }
         let e = Case::load("train-forces", &["train.offsets_m=[0.0]".into()]).unwrap_err();
         assert!(e.to_string().starts_with("train.loads_kN"), "{e}");
+    }
+
+    /// The unit stands still only for a given time; its keys are bounded and named.
+    #[test]
+    fn a_unit_at_standstill() {
+        let c = Case::load("unit", &[]).unwrap();
+        assert_eq!((c.speed, c.t_end), (0.0, 2.0));
+        let TrainCase::Unit(u) = &c.train else {
+            panic!("unit is a unit case")
+        };
+        assert_eq!(
+            (u.magnet_mass, u.body_mass, u.position),
+            (600.0, 3750.0, 10.0)
+        );
+        assert_eq!(c.vehicle_train().unwrap().unwrap().p0[0], 4350.0 * GRAVITY);
+        for (set, key) in [
+            ("run.t_end_s=nan", "run.t_end_s"),
+            ("vehicle.magnet_mass_kg=0", "vehicle.magnet_mass_kg"),
+            ("vehicle.body_mass_t=-1", "vehicle.body_mass_t"),
+            ("vehicle.spring_kN_per_m=0", "vehicle.spring_kN_per_m"),
+            ("vehicle.position_m=1e10", "vehicle.position_m"),
+            ("speed=-1", "run.speed_m_per_s"),
+        ] {
+            let e = Case::load("unit", &[set.into()]).unwrap_err().to_string();
+            assert!(e.starts_with(key), "{set}: {e}");
+        }
+        let mut sc = scenario::load("unit", &[]).unwrap();
+        sc.run.t_end_s = None;
+        let e = Case::new(sc).unwrap_err().to_string();
+        assert!(e.starts_with("run.t_end_s") && e.contains("= 0"), "{e}");
     }
 
     /// The bundled paper-5 scenario is `fe::paper5_viaduct()` in the file's units.

@@ -7,6 +7,7 @@ pub mod cars;
 pub mod case;
 pub mod cli;
 pub mod control;
+pub mod design;
 pub mod error;
 pub mod fe;
 pub mod guideway;

@@ -9,7 +9,6 @@
 //! disagrees with the paper the report says so (docs/paper5.md explains the disagreements).
 
 use crate::bands::{self, Averaging, BandLevel, Level, Quantity};
-use crate::case::Case;
 use crate::plot::{self, Plot, Series};
 use crate::probes::Rows;
 use crate::setup::{simulate, Controllers};
@@ -57,7 +56,7 @@ pub fn run_train(train: &str, sets: &[String], progress: impl FnMut(f64)) -> Res
         format!("output.probes=[\"{CARRIAGE}\", \"{PIER}\"]"),
     ];
     all.extend_from_slice(sets);
-    let case = Case::load(SCENARIO, &all)?;
+    let case = crate::design::load(SCENARIO, &all)?;
     let mut rows = Rows::new(case.probes.clone());
     let run = simulate(&case, Controllers::Core, &mut rows, progress)?;
     let column = |name: &str| {

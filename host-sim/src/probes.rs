@@ -279,7 +279,8 @@ pub enum Wheels<'a> {
     Vehicle {
         u: &'a [f64],
         a: &'a [f64],
-        dofs: &'a [(usize, usize)],
+        /// Each wheel's (Y, Z) DOFs; no Y for a magnet without guidance (a `unit`).
+        dofs: &'a [(Option<usize>, usize)],
         gaps: &'a [(f64, f64)],
         forces: &'a [(f64, f64)],
         h0: f64,
@@ -359,9 +360,12 @@ impl StepView<'_> {
                     Node::Magnet(i) => {
                         let (dy, dz) = dofs[i];
                         match q {
-                            WheelQ::Y => u[dy],
+                            WheelQ::Y => u[dy?],
                             WheelQ::Z => u[dz],
-                            WheelQ::GapY => magnet_gaps(gaps[i], *h0)[1],
+                            WheelQ::GapY => {
+                                dy?;
+                                magnet_gaps(gaps[i], *h0)[1]
+                            }
                             WheelQ::GapZ => gaps[i].0,
                             WheelQ::ForceZ => forces[i].0,
                         }

@@ -9,7 +9,7 @@ use maglev_core::{Interpolation, LawName, Scheme};
 use serde::{Deserialize, Serialize};
 
 /// Bundled scenarios: (name, TOML text).
-pub const BUNDLED: [(&str, &str); 4] = [
+pub const BUNDLED: [(&str, &str); 5] = [
     ("paper-4.2", include_str!("../scenarios/paper-4.2.toml")),
     ("paper-5", include_str!("../scenarios/paper-5.toml")),
     (
@@ -20,6 +20,7 @@ pub const BUNDLED: [(&str, &str); 4] = [
         "moving-force",
         include_str!("../scenarios/moving-force.toml"),
     ),
+    ("unit", include_str!("../scenarios/unit.toml")),
 ];
 
 /// Short `--set` keys and the scenario key each stands for.
@@ -191,6 +192,9 @@ pub enum VehicleSection {
     WheelRail(WheelRailKeys),
     /// Constant vertical moving loads (`[train] kind = "forces"`): one car's loads, repeated.
     Forces(ForcesKeys),
+    /// One levitation magnet carrying a body through a spring and a damper (`kind = "unit"`),
+    /// for the levitation analysis and standstill runs (docs/levitation.md).
+    Unit(UnitKeys),
 }
 
 /// `kind = "fig1"`: the Fig. 1 car (docs/model.md §5).
@@ -271,8 +275,43 @@ pub struct ForcesKeys {
     pub offset_z_m: f64,
 }
 
+/// `kind = "unit"`: one magnet of `magnet_mass_kg` carrying a body of `body_mass_t` through a
+/// spring and a damper, static load (magnet + body)·g, at `position_m` along the guideway.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct UnitKeys {
+    pub magnet_mass_kg: f64,
+    /// The body (t); 0, the default, leaves the magnet alone.
+    #[serde(default)]
+    pub body_mass_t: f64,
+    /// Magnet–body spring and damper; needed with a body.
+    #[serde(default)]
+    pub spring_kN_per_m: f64,
+    #[serde(default)]
+    pub damper_kN_s_per_m: f64,
+    /// Where the magnet stands at t = 0 along the guideway (m from the left end of span 1);
+    /// it moves on at `run.speed_m_per_s` (0: standstill).
+    #[serde(default)]
+    pub position_m: f64,
+    /// How the magnet faces its rail (docs/model.md §2); default `ems`.
+    #[serde(default = "ems")]
+    pub geometry: Geometry,
+}
+
+fn ems() -> Geometry {
+    Geometry::Ems
+}
+
 /// The `kind` words, in the enum's order.
-const VEHICLE_KINDS: &[&str] = &["fig1", "moving-force", "maglev", "wheel-rail", "forces"];
+const VEHICLE_KINDS: &[&str] = &[
+    "fig1",
+    "moving-force",
+    "maglev",
+    "wheel-rail",
+    "forces",
+    "unit",
+];
 
 impl VehicleSection {
     /// The section from its table: the `kind` tag, then that kind's keys, each error naming
@@ -294,6 +333,7 @@ impl VehicleSection {
             "maglev" => VehicleSection::Maglev(keys(t)?),
             "wheel-rail" => VehicleSection::WheelRail(keys(t)?),
             "forces" => VehicleSection::Forces(keys(t)?),
+            "unit" => VehicleSection::Unit(keys(t)?),
             other => return Err(toml::de::Error::unknown_variant(other, VEHICLE_KINDS).to_string()),
         })
     }
@@ -335,9 +375,37 @@ pub struct ControllerSection {
     /// `paper` (Eq. 14 with `nsub` sub-steps, the default) or `accurate` (Gauss–Legendre).
     #[serde(default)]
     pub scheme: Scheme,
-    /// The state law's gains and timing (`[controller.state]`, keys with their units:
-    /// `maglev_core::law::state::StateParams`), used when `law = "state"`.
-    pub state: Option<StateParams>,
+    /// The state law's gains and timing (`[controller.state]`), used when `law = "state"`.
+    pub state: Option<StateSection>,
+}
+
+/// `[controller.state]`: the state law's gains (units in the keys, as
+/// `maglev_core::law::state::StateParams` names them), or `design = true` to have them
+/// designed from the case's plant (docs/levitation.md); timing and supply either way.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct StateSection {
+    pub kp_V_per_m: Option<f64>,
+    pub kd_V_s_per_m: Option<f64>,
+    pub ka_V_s2_per_m: Option<f64>,
+    pub ki_V_per_m_s: Option<f64>,
+    pub kc_V_per_A: Option<f64>,
+    pub vmax_V: f64,
+    #[serde(default = "rate")]
+    pub rate_Hz: f64,
+    #[serde(default = "observer")]
+    pub observer_Hz: f64,
+    #[serde(default)]
+    pub design: bool,
+}
+
+fn rate() -> f64 {
+    StateParams::RATE_HZ
+}
+
+fn observer() -> f64 {
+    StateParams::OBSERVER_HZ
 }
 
 #[derive(Deserialize, Serialize, Debug, Clone)]
@@ -529,6 +597,7 @@ mod tests {
                 "paper-4.2" => ("body_mass_t", "body_mass_t = \"x\""),
                 "paper-5" => ("cars", "cars = -3"),
                 "train-forces" => ("loads_kN", "loads_kN = 5"),
+                "unit" => ("magnet_mass_kg", "magnet_mass_kg = true"),
                 _ => ("force_kN", "force_kN = [1]"),
             };
             let line = text

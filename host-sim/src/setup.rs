@@ -154,7 +154,7 @@ impl Passage {
             controller: case
                 .controller
                 .unwrap_or_else(|| maglev_core::levitation::Params::paper_wheel(case.dt)),
-            law: case.law,
+            law: case.law()?,
             geometry: case.geometry,
             tolerance: case.tolerance,
             max_iterations: case.max_iterations,

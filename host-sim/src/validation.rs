@@ -75,7 +75,7 @@ pub struct Run {
 }
 
 fn run(base: &Case, changes: Changes) -> Result<Run> {
-    let case = base.with(&changes)?;
+    let case = crate::design::with(base, &changes)?;
     let mut rows = Rows::new(Probes::default_columns());
     let r = simulate(&case, Controllers::Core, &mut rows, |_| {})?;
     let (o, wall) = (r.outcome, r.wall);
@@ -315,7 +315,7 @@ pub fn validate(sets: &[String], scheme: Scheme, mut step: impl FnMut(String)) -
     check_sets(sets)?;
     let mut all = sets.to_vec();
     all.push(format!("scheme={}", scheme.as_str()));
-    let base = Case::load("paper-4.2", &all)?;
+    let base = crate::design::load("paper-4.2", &all)?;
     let h0 = base.h0();
     let mut comps = Vec::new();
     let mut figs = Vec::new();

@@ -32,8 +32,9 @@ pub struct Wheel {
     pub ey: f64,
     /// Offset of its target point from the beam axis, Z (m).
     pub ez: f64,
-    /// Index of its Y and Z DOFs in the vehicle system.
-    pub dof_y: usize,
+    /// Index of its Y and Z DOFs in the vehicle system; no Y DOF for a magnet without
+    /// guidance magnets (a `unit`: its guidance force, if computed, acts on nothing).
+    pub dof_y: Option<usize>,
     pub dof_z: usize,
 }
 
@@ -104,6 +105,22 @@ impl Default for Fig1 {
             com_ahead: 0.0,
         }
     }
+}
+
+/// A levitation unit (`[vehicle] kind = "unit"`, docs/levitation.md): one magnet of
+/// `magnet_mass` carrying a body of `body_mass` through a vertical spring `k` and damper `c`,
+/// at `position` along the guideway at t = 0. It has no guidance magnets (no lateral DOF).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unit {
+    /// The magnet (kg), > 0.
+    pub magnet_mass: f64,
+    /// The body (kg), 0 for none.
+    pub body_mass: f64,
+    /// Magnet–body spring (N/m) and damper (N·s/m).
+    pub k: f64,
+    pub c: f64,
+    /// X of the magnet at t = 0 (m).
+    pub position: f64,
 }
 
 /// One car of any kind: mass, damping and stiffness (its own small dense matrices, in
@@ -217,7 +234,7 @@ impl VehicleModel {
                 x0: wx - p.half_length,
                 ey: p.offset_y + wy,
                 ez: p.target_height,
-                dof_y,
+                dof_y: Some(dof_y),
                 dof_z,
             });
         }
@@ -234,6 +251,48 @@ impl VehicleModel {
             body_pitch: BODY_RY,
             length: 2.0 * p.half_length,
             weight: p.body_mass * gravity,
+        };
+        (v.p0, _) = v.static_loads(&weight)?;
+        Ok(v)
+    }
+
+    /// The levitation unit `p` (DOF 0 the magnet's Z, DOF 1 the body's Z when it has one):
+    /// `M = diag(m, m_b)`, the spring and damper between the two; the magnet carries
+    /// (m + m_b)·g, the car's statics with the magnet held ([`Self::static_loads`]).
+    pub fn unit(p: &Unit, gravity: f64) -> Result<Self> {
+        let body = p.body_mass > 0.0;
+        let n = 1 + usize::from(body);
+        let mut m = DMatrix::zeros(n, n);
+        let mut c = DMatrix::zeros(n, n);
+        let mut k = DMatrix::zeros(n, n);
+        let mut weight = DVector::zeros(n);
+        m[(0, 0)] = p.magnet_mass;
+        weight[0] = -p.magnet_mass * gravity;
+        if body {
+            m[(1, 1)] = p.body_mass;
+            weight[1] = -p.body_mass * gravity;
+            for (i, j, sign) in [(0, 0, 1.0), (0, 1, -1.0), (1, 0, -1.0), (1, 1, 1.0)] {
+                k[(i, j)] = sign * p.k;
+                c[(i, j)] = sign * p.c;
+            }
+        }
+        let mut v = VehicleModel {
+            m,
+            c,
+            k,
+            wheels: vec![Wheel {
+                x0: p.position,
+                ey: 0.0,
+                ez: 0.0,
+                dof_y: None,
+                dof_z: 0,
+            }],
+            p0: Vec::new(),
+            contacts: Vec::new(),
+            body_z: n - 1,
+            body_pitch: n - 1,
+            length: 0.0,
+            weight: (p.magnet_mass + p.body_mass) * gravity,
         };
         (v.p0, _) = v.static_loads(&weight)?;
         Ok(v)
@@ -256,7 +315,7 @@ impl VehicleModel {
         let mut d: Vec<usize> = self
             .wheels
             .iter()
-            .flat_map(|w| [w.dof_y, w.dof_z])
+            .flat_map(|w| w.dof_y.into_iter().chain([w.dof_z]))
             .collect();
         d.extend(self.contacts.iter().map(|c| c.dof_z));
         d
@@ -274,7 +333,7 @@ impl VehicleModel {
         let total: f64 = weight.iter().map(|w| w.abs()).sum();
         let mut p0 = Vec::with_capacity(self.wheels.len());
         for (i, w) in self.wheels.iter().enumerate() {
-            let fy = r[w.dof_y];
+            let fy = w.dof_y.map_or(0.0, |y| r[y]);
             if fy.abs() > 1e-9 * total {
                 return Err(Error::invalid(
                     "vehicle",
@@ -323,6 +382,8 @@ pub enum CarKind {
     Fig6Maglev(Fig6),
     /// The wheel/rail comparison car: 8 Hertz contacts (docs/cars.md).
     WheelRail(WheelRail),
+    /// A levitation unit: one magnet under a body.
+    Unit(Unit),
 }
 
 impl CarKind {
@@ -332,6 +393,7 @@ impl CarKind {
             CarKind::Fig1(p) => VehicleModel::fig1(p, gravity),
             CarKind::Fig6Maglev(p) => p.build(gravity),
             CarKind::WheelRail(p) => p.build(gravity),
+            CarKind::Unit(p) => VehicleModel::unit(p, gravity),
         }
     }
 }
@@ -352,8 +414,8 @@ pub struct TrainWheel {
     pub x0: f64,
     pub ey: f64,
     pub ez: f64,
-    /// The wheel's Y and Z DOFs in its car.
-    pub dof_y: usize,
+    /// The wheel's Y (if guided) and Z DOFs in its car.
+    pub dof_y: Option<usize>,
     pub dof_z: usize,
 }
 
@@ -548,7 +610,7 @@ mod tests {
             let wy = w.ey - p.offset_y;
             let r = [wx, wy, -p.body_height];
             // displacement = translation + θ × r
-            u[w.dof_y] = 0.01 + (rz * r[0] - rx * r[2]);
+            u[w.dof_y.unwrap()] = 0.01 + (rz * r[0] - rx * r[2]);
             u[w.dof_z] = 0.02 + (rx * r[1] - ry * r[0]);
             let _ = i;
         }
@@ -617,6 +679,34 @@ mod tests {
         };
         let e = VehicleModel::fig1(&p, 9.81).unwrap_err().to_string();
         assert!(e.contains("must be positive"), "{e}");
+    }
+
+    /// The unit's magnet carries (magnet + body)·g, with or without a body, and its model
+    /// is the two-mass oscillator written out by hand.
+    #[test]
+    fn a_unit_carries_magnet_and_body() {
+        for body in [0.0, 4000.0] {
+            let p = Unit {
+                magnet_mass: 600.0,
+                body_mass: body,
+                k: 3e5,
+                c: 2e4,
+                position: 10.0,
+            };
+            let v = VehicleModel::unit(&p, 9.81).unwrap();
+            let want = (600.0 + body) * 9.81;
+            assert!((v.p0[0] - want).abs() <= 1e-12 * want, "{:?}", v.p0);
+            assert_eq!(v.wheels[0].x0, 10.0);
+            assert_eq!(v.wheels[0].dof_y, None);
+            if body > 0.0 {
+                assert_eq!(v.k[(0, 1)], -3e5);
+                assert_eq!(v.c[(1, 1)], 2e4);
+                assert_eq!(v.m[(1, 1)], body);
+                assert_eq!(v.body_z, 1);
+            } else {
+                assert_eq!(v.m.shape(), (1, 1));
+            }
+        }
     }
 
     #[test]

@@ -50,7 +50,7 @@ fn gap_loop_scenario(t_end: &str) -> Case {
         "law=gap-loop".to_string(),
         "geometry=ems".to_string(),
     ];
-    Case::load("paper-4.2", &sets).unwrap()
+    maglev_host_sim::design::load("paper-4.2", &sets).unwrap()
 }
 
 /// Wheel 1's gap (m) or force (N) at every step.

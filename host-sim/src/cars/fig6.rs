@@ -226,7 +226,7 @@ impl Fig6 {
                         x0: p[0] - x_front,
                         ey: y,
                         ez: self.target_z,
-                        dof_y,
+                        dof_y: Some(dof_y),
                         dof_z,
                     });
                 }

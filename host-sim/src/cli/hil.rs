@@ -1,7 +1,6 @@
 //! `maglev hil SCENARIO --firmware inproc|process|qemu [--set key=value]... [--out DIR]
 //! [--compare]`: a passage with the levitation firmware as the controller.
 
-use crate::case::Case;
 use crate::cli::progress::Progress;
 use crate::hil::compare::{compare, Comparison};
 use crate::hil::link::{InProc, Link, LinkFaults, LinkStats, StreamLink};
@@ -294,7 +293,7 @@ fn run_inner(args: Args) -> Result<()> {
             scenario_sets.push(s.clone());
         }
     }
-    let case = Case::load(&args.scenario, &scenario_sets)?;
+    let case = crate::design::load(&args.scenario, &scenario_sets)?;
     let out = Staging::new(&args.out)?;
     let mut rec = response_recorder(&out, case.probes.clone())?;
     let mut link = open_link(&args, faults)?;

@@ -1,7 +1,6 @@
 //! `maglev run SCENARIO [--set key=value]... [--out DIR] [--strict]`: one passage over an FE,
 //! modal or rigid guideway.
 
-use crate::case::Case;
 use crate::cli::progress::Progress;
 use crate::output::{gap_ranges, response_recorder, write_run, Columns, Staging, Summary};
 use crate::setup::{simulate, Controllers};
@@ -83,7 +82,7 @@ pub fn warn(outcome: &Outcome) {
 /// Runs the command. Once the outputs are written: [`Error::Strict`] when `--strict` and the
 /// run collided or left its gap bounds (exit 3), else [`check_converged`].
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let case = Case::load(&args.scenario, &args.sets)?;
+    let case = crate::design::load(&args.scenario, &args.sets)?;
     let out = Staging::new(&args.out)?;
     let mut rec = response_recorder(&out, case.probes.clone())?;
     let mut bar = Progress::run("run");

@@ -274,6 +274,34 @@ pub fn scenario_table(r: &ScenarioReport) -> String {
             .map_or("none up to 10 t".to_string(), |m| format!("{m:.3} kg")),
         list(&r.vehicle_poles),
     );
+    if let Some(g) = &r.gains {
+        out += &format!(
+            "state gains (scenario)     controller.state={{kp_V_per_m={:e}, kd_V_s_per_m={:e}, \
+             ka_V_s2_per_m={:e}, ki_V_per_m_s={:e}, kc_V_per_A={:e}, vmax_V={:e}, rate_Hz={:e}, \
+             observer_Hz={:e}}}\n",
+            g.kp, g.kd, g.ka, g.ki, g.kc, g.v_max, g.rate_hz, g.observer_hz
+        );
+    }
+    out += &format!(
+        "min damping ratio          {:.6}\n{:<27}{}\n",
+        r.min_damping_ratio, "margins delay", r.delay_note
+    );
+    let db = |x: Option<f64>| x.map_or("none".to_string(), |v| format!("{v:.3}"));
+    for m in &r.margins {
+        out += &format!(
+            "margins {:<19}gain −{} / +{} dB, phase {} deg, Ms {}{}\n",
+            m.magnet,
+            db(m.gain_low_db),
+            db(m.gain_high_db),
+            db(m.phase_deg),
+            db(m.sensitivity_peak),
+            if m.stable_with_delay {
+                ""
+            } else {
+                " (unstable with the delay)"
+            }
+        );
+    }
     if let Some(g) = &r.gap_loop {
         out += &format!(
             "gap-loop gains             kp {:e}, kd {:e} s, tf {:e} s (sampled abscissa {:.6} 1/s at a {} s delay)\n\

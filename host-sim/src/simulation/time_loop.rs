@@ -130,8 +130,8 @@ struct Tally {
 
 /// The train-wide DOF indices the probes read (cars concatenated in order).
 struct ProbeDofs {
-    /// Each magnet wheel's (Y, Z) DOFs.
-    wheels: Vec<(usize, usize)>,
+    /// Each magnet wheel's (Y, Z) DOFs (no Y: a magnet without guidance).
+    wheels: Vec<(Option<usize>, usize)>,
     contacts: Vec<usize>,
     body_z: Vec<usize>,
 }
@@ -184,7 +184,12 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
             wheels: v
                 .wheels
                 .iter()
-                .map(|w| (veh.global(w.car, w.dof_y), veh.global(w.car, w.dof_z)))
+                .map(|w| {
+                    (
+                        w.dof_y.map(|y| veh.global(w.car, y)),
+                        veh.global(w.car, w.dof_z),
+                    )
+                })
                 .collect(),
             contacts: v
                 .contacts
@@ -346,11 +351,15 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
         for (i, w) in self.train.wheels.iter().enumerate() {
             let m = self.guideway.motion_at(at.xs[i], w.ey, w.ez);
             let (uy, uz, az) = if trial {
-                let (c, y, z) = (w.car, w.dof_y, w.dof_z);
-                (veh.u1(c, y), veh.u1(c, z), veh.a1(c, z))
+                let (c, z) = (w.car, w.dof_z);
+                (
+                    w.dof_y.map_or(0.0, |y| veh.u1(c, y)),
+                    veh.u1(c, z),
+                    veh.a1(c, z),
+                )
             } else {
                 (
-                    veh.u(w.car, w.dof_y),
+                    w.dof_y.map_or(0.0, |y| veh.u(w.car, y)),
                     veh.u(w.car, w.dof_z),
                     veh.a(w.car, w.dof_z),
                 )

@@ -165,7 +165,9 @@ impl TrainState {
         for (w, &(fz, fy)) in train.wheels.iter().zip(forces) {
             let f = self.cars[w.car].f.as_mut_slice();
             f[w.dof_z] = fz;
-            f[w.dof_y] = fy;
+            if let Some(y) = w.dof_y {
+                f[y] = fy;
+            }
         }
         for (k, &fz) in train.contacts.iter().zip(contact) {
             self.cars[k.car].f.as_mut_slice()[k.dof_z] += fz;

@@ -38,14 +38,16 @@ pub struct Slots {
 
 /// Writes the rows of `x`, `y` (and `q`) of one magnet into `a` (overwriting them): the law of
 /// `lp` on the gap `η = Σ eta[j]·state[j]`, alone (`gains = None`, the paper's Eq. 8–10) or
-/// under the gap loop (`gains`, `tf > 0` and a `q` slot required).
+/// under the gap loop (`gains`, `tf > 0` and a `q` slot required). Returns the law's voltage
+/// change as a row over the state, `Δv = y + kpv·(x_ref − x)` (the part of `τ·ẋ` that is not
+/// the coil's own `−η − x`).
 pub fn write_rows(
     a: &mut DMatrix<f64>,
     at: Slots,
     eta: &[(usize, f64)],
     lp: &Loop,
     gains: Option<&GapParams>,
-) -> crate::Result<()> {
+) -> crate::Result<Vec<f64>> {
     let n = a.ncols();
     let mut eta_row = vec![0.0; n];
     for &(j, e) in eta {
@@ -107,7 +109,10 @@ pub fn write_rows(
     a[(at.x, at.x)] -= lp.p / lp.tau;
     a[(at.x, at.y)] += 1.0 / lp.tau;
     a[(at.y, at.x)] -= lp.ki;
-    Ok(())
+    let mut dv: Vec<f64> = r.iter().map(|rj| kpv * rj).collect();
+    dv[at.x] -= kpv;
+    dv[at.y] += 1.0;
+    Ok(dv)
 }
 
 /// What one magnet under the state law reads, as rows over the closed-loop state: the gap
@@ -128,7 +133,7 @@ pub struct StateSensors<'a> {
 /// Kp = kp·h0/V_b,  Kd = kd·h0/V_b,  Ki = ki·h0/V_b,  Kc = kc·i0/V_b
 /// ```
 /// (`Δi/i0 = x + η`, the coil's current `g·h` linearised; τ the coil's time constant.) The
-/// voltage bound is not active in a linear model.
+/// voltage bound is not active in a linear model. Returns `Δv` as a row over the state.
 pub fn write_state_rows(
     a: &mut DMatrix<f64>,
     at: Slots,
@@ -136,7 +141,7 @@ pub fn write_state_rows(
     lp: &Loop,
     law: &StateParams,
     magnet: &Params,
-) {
+) -> Vec<f64> {
     let vb = magnet.v_base();
     let (h0, i0) = (magnet.h0, magnet.i0);
     let (kp, kd, ki, kc) = (
@@ -158,8 +163,15 @@ pub fn write_state_rows(
     }
     x_row[at.x] -= 1.0 + kc;
     x_row[at.y] += 1.0;
-    for (j, v) in x_row.into_iter().enumerate() {
+    for (j, v) in x_row.iter().enumerate() {
         a[(at.x, j)] = v / lp.tau;
         a[(at.y, j)] = ki * sensors.eta[j];
     }
+    // Δv = τ·ẋ + η + x: the row less the coil's own terms.
+    let mut dv = x_row;
+    for (d, e) in dv.iter_mut().zip(sensors.eta) {
+        *d += e;
+    }
+    dv[at.x] += 1.0;
+    dv
 }

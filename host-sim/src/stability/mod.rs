@@ -24,10 +24,12 @@ pub mod gap_loop;
 pub mod gauss;
 pub mod gloop;
 pub mod magnet;
+pub mod margins;
 pub mod numerics;
 pub mod plant;
 pub mod report;
 pub mod schemes;
+pub mod state_design;
 pub mod vehicle;
 
 /// A complex number for reports (`re`, `im`), sorted by descending real part then imaginary.

@@ -1,10 +1,38 @@
 //! The linearised stability of a whole case's vehicle (`maglev stability --scenario`): every
-//! magnet under the case's law and geometry, the critical magnet mass, and for the gap loop
-//! its designed gains with the per-magnet loop poles.
+//! magnet under the case's law and geometry, the critical magnet mass, each magnet's plant
+//! and margins (docs/levitation.md), and for the gap loop its designed gains with the
+//! per-magnet loop poles.
 
 use crate::case::{Case, TrainCase};
+use crate::stability::margins::{margins, Margins};
+use crate::stability::vehicle::VehiclePlant;
 use crate::stability::Complex;
+use crate::vehicle::{Unit, VehicleModel};
+use maglev_core::law::state::StateParams;
+use maglev_core::levitation::GRAVITY;
+use maglev_core::{LawKind, Params};
 use serde::Serialize;
+
+/// One magnet's plant as the analysis used it (SI).
+#[derive(Debug, Serialize)]
+#[allow(non_snake_case)]
+pub struct PlantReport {
+    pub magnet: String,
+    /// Mass of the node the magnet acts on (kg) and its static load (N).
+    pub mass_kg: f64,
+    pub static_load_N: f64,
+    /// Coil time constant `τ = 2·p0·h0/(R0·i0²)` (s, docs/model.md Eq. 9), nominal gap,
+    /// current, resistance and voltage `R0·i0`.
+    pub coil_tau_s: f64,
+    pub h0_m: f64,
+    pub i0_A: f64,
+    pub r0_ohm: f64,
+    pub v_base_V: f64,
+    /// The supply bound of the law (V; the state law's, else the controller's; null: none).
+    pub vmax_V: Option<f64>,
+    /// The period at which the law updates the coil voltage (s).
+    pub control_period_s: f64,
+}
 
 /// The gap loop's gains as reported (per unit; SI seconds).
 #[derive(Debug, Serialize)]
@@ -38,33 +66,136 @@ pub struct ScenarioReport {
     pub stable: bool,
     pub critical_magnet_mass_kg: Option<f64>,
     pub gap_loop: Option<GainsReport>,
+    /// Each magnet's plant.
+    pub plant: Vec<PlantReport>,
+    /// The state law's gains in scenario form (`[controller.state]`); null for other laws.
+    pub gains: Option<StateParams>,
+    /// Closed-loop poles of the continuous model with ideal sensors, `[re, im]` (1/s).
+    pub ideal_poles: Vec<[f64; 2]>,
+    /// Smallest `−re/|s|` over the poles other than the zero poles.
+    pub min_damping_ratio: f64,
+    /// What the delay of the margins stands for.
+    pub delay_note: String,
+    /// Each magnet's loop broken at its coil voltage, the others closed, the delay in series.
+    pub margins: Vec<Margins>,
+}
+
+/// The vehicle of a case as a function of its magnet mass (kg), and that mass.
+type Builder = Box<dyn Fn(f64) -> crate::Result<VehicleModel>>;
+
+fn vehicle_of(case: &Case) -> crate::Result<(VehicleModel, f64, Builder)> {
+    match &case.train {
+        TrainCase::Fig1 { car, .. } => {
+            let car = car.clone();
+            let v = VehicleModel::fig1(&car, GRAVITY)?;
+            let m0 = car.wheel_mass;
+            let build: Builder = Box::new(move |m| {
+                let fig = crate::vehicle::Fig1 {
+                    wheel_mass: m,
+                    ..car.clone()
+                };
+                VehicleModel::fig1(&fig, GRAVITY)
+            });
+            Ok((v, m0, build))
+        }
+        TrainCase::Unit(u) => {
+            let u = u.clone();
+            let v = VehicleModel::unit(&u, GRAVITY)?;
+            let m0 = u.magnet_mass;
+            let build: Builder = Box::new(move |m| {
+                VehicleModel::unit(
+                    &Unit {
+                        magnet_mass: m,
+                        ..u.clone()
+                    },
+                    GRAVITY,
+                )
+            });
+            Ok((v, m0, build))
+        }
+        _ => Err(crate::Error::invalid(
+            "vehicle.kind",
+            "stability --scenario needs a fig1 or unit vehicle (magnets to analyse)",
+        )),
+    }
+}
+
+/// The period at which `law` updates the coil voltage (s): the state law's control period,
+/// else the inner law's sub-step (`dt/n_sub`, or the accurate scheme's Gauss interval).
+pub fn control_period(law: &LawKind, inner: &Params, dt: f64) -> f64 {
+    match law {
+        LawKind::State(s) => dt / s.periods(dt) as f64,
+        _ => match inner.scheme {
+            maglev_core::Scheme::Paper => dt / inner.n_sub as f64,
+            maglev_core::Scheme::Accurate => {
+                dt / maglev_core::levitation::accurate::intervals(&Params { dt, ..*inner }) as f64
+            }
+        },
+    }
+}
+
+/// The delay in series in the margins: 1.5 control periods (module docs of
+/// [`crate::stability::margins`]; docs/levitation.md "The delay").
+pub const DELAY_PERIODS: f64 = 1.5;
+
+/// Every magnet's margins in `plant` with the delay `delay` (s).
+pub fn all_margins(plant: &VehiclePlant, delay: f64) -> crate::Result<Vec<Margins>> {
+    (0..plant.magnets.len())
+        .map(|k| margins(plant, k, delay))
+        .collect()
+}
+
+/// Smallest damping ratio `−re/|s|` of `poles` other than the zero poles.
+pub fn min_damping(poles: &[Complex]) -> f64 {
+    poles
+        .iter()
+        .filter(|p| p.abs() >= crate::stability::vehicle::ZERO_POLE)
+        .map(|p| -p.re / p.abs())
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Computes the scenario report (no printing).
 pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioReport> {
     use crate::stability::gap_loop::GapLoopPlant;
-    use crate::stability::vehicle::{critical_magnet_mass, VehiclePlant, ZERO_POLE};
-    use maglev_core::LawKind;
-    let case = Case::load(name, sets)?;
-    let TrainCase::Fig1 { car: fig, .. } = &case.train else {
-        return Err(crate::Error::invalid(
-            "vehicle.kind",
-            "stability --scenario needs a fig1 vehicle (magnets to analyse)",
-        ));
-    };
-    let fig = fig.clone();
+    use crate::stability::vehicle::{critical_mass, ZERO_POLE};
+    let case = crate::design::load(name, sets)?;
+    let (v, magnet_mass, build) = vehicle_of(&case)?;
     let Some(inner) = case.controller else {
         return Err(crate::Error::invalid(
             "controller",
             "stability --scenario needs a [controller] section",
         ));
     };
-    let law = case.law;
+    let law = case.law()?;
     let geometry = case.geometry;
-    let v = crate::vehicle::VehicleModel::fig1(&fig, maglev_core::levitation::GRAVITY)?;
     let plant = VehiclePlant::new(&v, &inner, &law, geometry)?;
     let vd = plant.verdict()?;
-    let critical = critical_magnet_mass(&fig, &inner, &law, geometry)?;
+    let critical = critical_mass(magnet_mass, |m| {
+        VehiclePlant::new(&build(m)?, &inner, &law, geometry)
+    })?;
+    let period = control_period(&law, &inner, case.dt);
+    let delay = DELAY_PERIODS * period;
+    let vmax = match law {
+        LawKind::State(s) => Some(s.v_max),
+        _ => Some(inner.v_max).filter(|v| v.is_finite()),
+    };
+    let plant_report = plant
+        .magnets
+        .iter()
+        .map(|m| PlantReport {
+            magnet: m.name.clone(),
+            mass_kg: m.mass,
+            static_load_N: m.p0,
+            coil_tau_s: m.tau,
+            h0_m: inner.h0,
+            i0_A: inner.i0,
+            r0_ohm: inner.r0,
+            v_base_V: inner.r0 * inner.i0,
+            vmax_V: vmax,
+            control_period_s: period,
+        })
+        .collect();
+    let margins = all_margins(&plant, delay)?;
     let note = if vd.zero_poles > 0 {
         format!(
             "{} pole(s) with |s| < {ZERO_POLE:e} 1/s, expected: the paper's law holds each \
@@ -106,7 +237,19 @@ pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioRep
         scenario: name.to_string(),
         geometry: geometry.as_str(),
         law: law.name().as_str(),
-        magnet_mass_kg: fig.wheel_mass,
+        magnet_mass_kg: magnet_mass,
+        plant: plant_report,
+        gains: match law {
+            LawKind::State(s) => Some(s),
+            _ => None,
+        },
+        ideal_poles: vd.poles.iter().map(|p| [p.re, p.im]).collect(),
+        min_damping_ratio: min_damping(&vd.poles),
+        delay_note: format!(
+            "{DELAY_PERIODS} control periods of {period:e} s: the zero-order hold of the \
+             sampled voltage (half a period on average) and one period of computation"
+        ),
+        margins,
         states: plant.a.nrows(),
         vehicle_poles: vd.poles,
         zero_poles: vd.zero_poles,

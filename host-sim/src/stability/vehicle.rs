@@ -56,6 +56,25 @@ pub struct VehiclePlant {
     /// Names of the states, in order (`q[i]` vehicle DOF i, `v[i]` its velocity, `lev1.x`,
     /// `guideL1.y`, … per wheel).
     pub states: Vec<String>,
+    /// Every magnet's loop as it enters `a`, in state order (for the margins).
+    pub magnets: Vec<MagnetLoop>,
+}
+
+/// Where one magnet's loop closes in the state matrix: the coil's row `x` is
+/// `τ·ẋ = Δv − η − x` (per unit, [`super::magnet`]), so the loop breaks at the coil voltage
+/// with the input column `e_x/τ` and the law's voltage row `Δv` (over the whole state).
+#[derive(Clone, Debug)]
+pub struct MagnetLoop {
+    /// `lev1`, `guideL1`, …
+    pub name: String,
+    /// The magnet's static load (N) and the mass of the node it acts on (kg).
+    pub p0: f64,
+    pub mass: f64,
+    /// The coil's `x` state and time constant τ (s).
+    pub x: usize,
+    pub tau: f64,
+    /// The law's per-unit voltage change `Δv` as a row over the state.
+    pub dv: Vec<f64>,
 }
 
 /// Poles and what they say.
@@ -178,11 +197,17 @@ impl VehiclePlant {
         let delay = delay.filter(|_| gains.is_some());
         let per = 2 + usize::from(gains.is_some()) + usize::from(delay.is_some());
         let nm = n + na;
-        let ns = nm + 3 * per * v.wheels.len();
+        // Per wheel its levitation magnet, and its guidance pair when it has a lateral DOF.
+        let count: usize = v
+            .wheels
+            .iter()
+            .map(|w| 1 + 2 * usize::from(w.dof_y.is_some()))
+            .sum();
+        let ns = nm + per * count;
         let mut states: Vec<String> = (0..n).map(|i| format!("q[{i}]")).collect();
         states.extend(massive.iter().map(|i| format!("v[{i}]")));
-        let slot = |w: usize, k: usize| {
-            let base = nm + per * (3 * w + k);
+        let slot = |index: usize| {
+            let base = nm + per * index;
             Slots {
                 x: base,
                 y: base + 1,
@@ -205,6 +230,7 @@ impl VehiclePlant {
         // State-law magnets read the gap's rate and the magnet's acceleration, which the
         // mechanical rows give: their rows are written after those.
         let mut state_magnets = Vec::new();
+        let mut loops = Vec::with_capacity(count);
         for (w, (wh, &p0)) in v.wheels.iter().zip(&v.p0).enumerate() {
             let mut p = *inner;
             p.p0 = p0;
@@ -212,17 +238,28 @@ impl VehiclePlant {
                 .map_err(|e| crate::Error::invalid(format!("wheel {}", w + 1), e.to_string()))?;
             let lp = Loop::new(&p, 0.0);
             let h0 = p.h0;
-            let magnets = [
-                ("lev", wh.dof_z, dh_dz, 1.0, wh.dof_z),
-                ("guideL", wh.dof_y, hl, dfy_dl, wh.dof_y),
-                ("guideR", wh.dof_y, hr, dfy_dr, wh.dof_y),
-            ];
-            for (k, (name, gap_dof, dh, df, force_dof)) in magnets.into_iter().enumerate() {
-                let at = slot(w, k);
-                match state_law {
+            let mut magnets = vec![("lev", wh.dof_z, dh_dz, 1.0)];
+            if let Some(y) = wh.dof_y {
+                magnets.extend([("guideL", y, hl, dfy_dl), ("guideR", y, hr, dfy_dr)]);
+            }
+            for (k, (name, dof, dh, df)) in magnets.into_iter().enumerate() {
+                let (gap_dof, force_dof) = (dof, dof);
+                let at = slot(loops.len());
+                let dv = match state_law {
                     None => magnet::write_rows(&mut a, at, &[(gap_dof, dh / h0)], &lp, gains)?,
-                    Some(_) => state_magnets.push((at, gap_dof, dh / h0, k == 0, p, lp)),
-                }
+                    Some(_) => {
+                        state_magnets.push((loops.len(), at, gap_dof, dh / h0, k == 0, p, lp));
+                        Vec::new()
+                    }
+                };
+                loops.push(MagnetLoop {
+                    name: format!("{name}{}", w + 1),
+                    p0,
+                    mass: v.m[(dof, dof)],
+                    x: at.x,
+                    tau: lp.tau,
+                    dv,
+                });
                 f[(force_dof, at.x)] += df * 2.0 * p0;
                 states.push(format!("{name}{}.x", w + 1));
                 states.push(format!("{name}{}.y", w + 1));
@@ -255,7 +292,7 @@ impl VehiclePlant {
             a.row_mut(i).copy_from(&qz_dot.row(iz));
         }
         if let Some(law) = state_law {
-            for (at, dof, deta, levitation, p, lp) in state_magnets {
+            for (index, at, dof, deta, levitation, p, lp) in state_magnets {
                 let mut eta = vec![0.0; ns];
                 eta[dof] = deta;
                 let eta_rate: Vec<f64> = a.row(dof).iter().map(|v| deta * v).collect();
@@ -276,10 +313,14 @@ impl VehiclePlant {
                     eta_rate: &eta_rate,
                     accel: accel.as_deref(),
                 };
-                magnet::write_state_rows(&mut a, at, &sensors, &lp, law, &p);
+                loops[index].dv = magnet::write_state_rows(&mut a, at, &sensors, &lp, law, &p);
             }
         }
-        Ok(VehiclePlant { a, states })
+        Ok(VehiclePlant {
+            a,
+            states,
+            magnets: loops,
+        })
     }
 
     /// Closed-loop poles (1/s), sorted by descending real part ([`super::eigenvalues`]).
@@ -326,12 +367,18 @@ pub fn critical_magnet_mass(
     law: &LawKind,
     geometry: Geometry,
 ) -> crate::Result<Option<f64>> {
-    let unstable = |m: f64| -> crate::Result<bool> {
-        Ok(!fig1_with_mass(fig, m, inner, law, geometry)?
-            .verdict()?
-            .stable)
-    };
-    let m0 = fig.wheel_mass;
+    critical_mass(fig.wheel_mass, |m| {
+        fig1_with_mass(fig, m, inner, law, geometry)
+    })
+}
+
+/// [`critical_magnet_mass`] for any vehicle: `build(m)` linearises it with magnet mass `m`,
+/// `m0` the scenario's own.
+pub fn critical_mass(
+    m0: f64,
+    build: impl Fn(f64) -> crate::Result<VehiclePlant>,
+) -> crate::Result<Option<f64>> {
+    let unstable = |m: f64| -> crate::Result<bool> { Ok(!build(m)?.verdict()?.stable) };
     if unstable(m0)? {
         return Ok(Some(m0));
     }

@@ -63,7 +63,7 @@ fn case(spec: &Spec, run: Option<&Run>) -> Result<(crate::case::Case, Reducer)> 
         None => spec.sets.clone(),
     };
     sets.push(probe_set(spec));
-    let case = crate::case::Case::load(&spec.scenario, &sets)?;
+    let case = crate::design::load(&spec.scenario, &sets)?;
     let reducer = Reducer::new(&spec.quantities, &case.probes)?;
     Ok((case, reducer))
 }

@@ -146,7 +146,7 @@ fn disturbed(sets: &[&str], t_end: f64, step_m: f64) -> Vec<(f64, f64)> {
     all.push("nsub=5".into());
     all.push(format!("t_end={t_end}"));
     all.extend(sets.iter().map(|s| s.to_string()));
-    let case = crate::case::Case::load("paper-4.2", &all).unwrap();
+    let case = crate::design::load("paper-4.2", &all).unwrap();
     let mut pa = Passage::new(&case).unwrap();
     let step = move |x: f64| if x > 0.5 { step_m } else { 0.0 };
     pa.profiles = Profiles {
@@ -257,7 +257,7 @@ fn ems_gap_loop_passage_with_500_kg_magnets_keeps_every_gap() {
         .iter()
         .map(|s| s.to_string())
         .collect();
-    let case = crate::case::Case::load("paper-4.2", &sets).unwrap();
+    let case = crate::design::load("paper-4.2", &sets).unwrap();
     let out = crate::setup::simulate(
         &case,
         crate::setup::Controllers::Core,
@@ -287,7 +287,7 @@ fn bare_magnet(m: f64) -> VehicleModel {
             x0: 0.0,
             ey: 0.0,
             ez: 0.0,
-            dof_y: 0,
+            dof_y: Some(0),
             dof_z: 1,
         }],
         p0: vec![w],
