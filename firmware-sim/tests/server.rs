@@ -45,6 +45,7 @@ fn config(scalar: ScalarKind) -> Config {
         stuck_ticks: 100,
         ramp_ticks: 50,
         watchdog_ticks: 0,
+        geometry: Geometry::Ems,
     }
 }
 

@@ -34,6 +34,7 @@ fn config(scalar: ScalarKind, law: LawKind) -> Config {
         stuck_ticks: 3,
         ramp_ticks: 4,
         watchdog_ticks: 3,
+        geometry: Geometry::Ems,
     }
 }
 
