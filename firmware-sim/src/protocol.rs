@@ -18,7 +18,7 @@
 
 use heapless::Vec;
 /// The law types of [`Config::law`]: the core's own, serialised as they are.
-pub use maglev_core::{gap::Geometry, gap_control::GapParams, LawKind};
+pub use maglev_core::{gap::Geometry, gap_control::GapParams, law::state::StateParams, LawKind};
 use serde::{Deserialize, Serialize};
 
 /// Protocol version carried in every envelope; a mismatch is answered with [`Nack::Version`].
