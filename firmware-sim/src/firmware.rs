@@ -34,6 +34,7 @@
 //! The law's own coil equation (Eq. 9, the α-method with KP = KI = 0) carries the current
 //! while the fault ramp drives the voltage; so the reported current stays physical.
 
+use crate::accel::Accelerometer;
 use crate::adc::read_channel;
 use crate::hbridge::duty_for;
 use crate::protocol::{ChannelOut, Config, ConfigFault, ConfigKey, Problem, MAX_CHANNELS};
@@ -43,7 +44,8 @@ use embedded_hal::pwm::SetDutyCycle;
 use embedded_hal::spi::SpiDevice;
 use heapless::Vec;
 use maglev_core::{
-    Interpolation, Law, LawParams, LawState, Levitation, Measurement, Params, Scalar, Status,
+    law::state::StateParams, Interpolation, Law, LawKind, LawParams, LawState, Levitation,
+    Measurement, Params, Scalar, Status,
 };
 
 /// One channel's state.
@@ -54,6 +56,10 @@ pub struct ChannelState<S> {
     pub sensor: SensorState,
     /// The previous tick's sample (for the one-sample delay).
     pub delayed: u16,
+    /// The accelerometer sample the law reads this tick, and the previous tick's (the same
+    /// delay); codes of [`crate::accel`].
+    pub accel: i16,
+    pub delayed_accel: i16,
     /// Voltage (per unit) when the fault ramp started.
     pub ramp_from: S,
     pub duty: u16,
@@ -68,10 +74,21 @@ pub struct FwState<S> {
     pub tick: u64,
 }
 
-/// The control loop over a bus `SPI` and PWM channels `PWM`.
-pub struct Firmware<S, SPI, PWM> {
+/// The control loop over a bus `SPI` (the gap ADC), PWM channels `PWM` and, under the state
+/// law, one accelerometer `ACC` per channel ([`crate::accel`]).
+pub struct Firmware<S, SPI, PWM, ACC> {
     spi: SPI,
     pwm: Vec<PWM, MAX_CHANNELS>,
+    /// One per channel under the state law (started by [`Firmware::new`]), none otherwise.
+    accels: Vec<Accelerometer<ACC>, MAX_CHANNELS>,
+    /// Channels whose law reads its accelerometer (bit k: channel k): the board's wiring,
+    /// [`Firmware::wire_accelerometers`].
+    accel_mask: u16,
+    /// `a/g_n` of code −32768, and of the 16-bit span ([`crate::accel`]: `code·lsb − 1`).
+    accel_offset: S,
+    accel_span: S,
+    /// Every channel runs the paper's law (called without the law type's dispatch).
+    paper: bool,
     laws: Vec<Law<S>, MAX_CHANNELS>,
     coils: Vec<Levitation<S>, MAX_CHANNELS>,
     /// `h/h0` of code 0, and of the full 2^bits span.
@@ -87,13 +104,41 @@ pub struct Firmware<S, SPI, PWM> {
     st: FwState<S>,
 }
 
-impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
+impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
+    Firmware<S, SPI, PWM, ACC>
+{
     /// Builds the loop from a configuration; the state starts in equilibrium at each
-    /// channel's initial gap. `pwm` must hold one channel per configured magnet.
+    /// channel's initial gap. `pwm` must hold one channel per configured magnet, and under
+    /// the state law `accels` one accelerometer per channel (each is started, its id
+    /// checked; otherwise they are not used).
     /// Every value is checked first ([`crate::validate`]); a refusal names it.
-    pub fn new(cfg: &Config, spi: SPI, pwm: Vec<PWM, MAX_CHANNELS>) -> Result<Self, ConfigFault> {
+    pub fn new(
+        cfg: &Config,
+        spi: SPI,
+        pwm: Vec<PWM, MAX_CHANNELS>,
+        accels: Vec<ACC, MAX_CHANNELS>,
+    ) -> Result<Self, ConfigFault> {
         check_config(cfg)?;
         let n = cfg.channels.len();
+        let state = matches!(cfg.law, LawKind::State(_));
+        let mut drivers = Vec::new();
+        if state {
+            for (k, dev) in accels.into_iter().enumerate().take(n) {
+                let fault = |_| ConfigFault {
+                    key: ConfigKey::Accelerometer,
+                    channel: Some(k as u8),
+                    problem: Problem::OutOfRange,
+                };
+                let _ = drivers.push(Accelerometer::new(dev).map_err(fault)?);
+            }
+            if drivers.len() != n {
+                return Err(ConfigFault {
+                    key: ConfigKey::Accelerometer,
+                    channel: None,
+                    problem: Problem::OutOfRange,
+                });
+            }
+        }
         if pwm.len() != n {
             return Err(ConfigFault {
                 key: ConfigKey::Channels,
@@ -122,12 +167,16 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
                 scheme: maglev_core::Scheme::Paper,
             };
             let channel = Some(k as u8);
-            let law = LawParams {
-                magnet: p,
-                kind: cfg.law,
-            }
-            .compile::<S>()
-            .map_err(|e| law_fault(e, channel))?;
+            let kind = match cfg.law {
+                LawKind::State(s) => LawKind::State(StateParams {
+                    geometry: cfg.geometry,
+                    ..s
+                }),
+                other => other,
+            };
+            let law = LawParams { magnet: p, kind }
+                .compile::<S>()
+                .map_err(|e| law_fault(e, channel))?;
             let coil = Params {
                 kp: 0.0,
                 ki: 0.0,
@@ -149,6 +198,9 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
                     bad_run: 0,
                 },
                 delayed: code,
+                // At rest the part reads +1 g ([`crate::accel`]).
+                accel: crate::accel::AccelModel.code(0.0),
+                delayed_accel: crate::accel::AccelModel.code(0.0),
                 ramp_from: S::ONE,
                 duty: 0,
             };
@@ -160,6 +212,17 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         let gap_offset = S::from_f64(cfg.adc_offset_m / cfg.h0, &mut ov);
         let gap_span = S::from_f64(span_m / cfg.h0, &mut ov);
         let ramp_step = S::from_f64(1.0 / cfg.ramp_ticks as f64, &mut ov);
+        let lsb = crate::accel::LSB_G_16G;
+        let mut accel_ov = false;
+        let accel_offset = S::from_f64(-32768.0 * lsb - 1.0, &mut accel_ov);
+        let accel_span = S::from_f64(65536.0 * lsb, &mut accel_ov);
+        if accel_ov && state {
+            return Err(ConfigFault {
+                key: ConfigKey::Accelerometer,
+                channel: None,
+                problem: Problem::Unrepresentable,
+            });
+        }
         if ov {
             return Err(ConfigFault {
                 key: ConfigKey::AdcOffset,
@@ -170,6 +233,11 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         let mut fw = Firmware {
             spi,
             pwm,
+            accels: drivers,
+            accel_mask: 0,
+            accel_offset,
+            accel_span,
+            paper: matches!(cfg.law, LawKind::Paper),
             laws,
             coils,
             gap_offset,
@@ -203,6 +271,19 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         &mut self.spi
     }
 
+    /// Channel `k`'s accelerometer device, if the law uses one (for the board, as
+    /// [`Firmware::bus_mut`]).
+    pub fn accel_mut(&mut self, k: usize) -> Option<&mut ACC> {
+        self.accels.get_mut(k).map(Accelerometer::device_mut)
+    }
+
+    /// Which channels' laws read their accelerometer (bit k: channel k; the board's wiring:
+    /// a levitation magnet carries one, a guidance magnet's law runs on its gap alone).
+    /// Ignored without the state law.
+    pub fn wire_accelerometers(&mut self, mask: u16) {
+        self.accel_mask = mask;
+    }
+
     /// The whole mutable state (a snapshot).
     pub fn state(&self) -> FwState<S> {
         self.st
@@ -223,6 +304,40 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         let frac = S::from_code(code, self.adc_bits);
         self.gap_offset
             .sadd(frac.smul(self.gap_span, &mut ov), &mut ov)
+    }
+
+    /// A channel's law output to its H-bridge, its events raised.
+    fn drive(&mut self, k: usize, out: &maglev_core::Output<S>, events: &mut Event) {
+        events.raise(map_status(out.status));
+        if self.apply(k, out.voltage) {
+            events.raise(Event::PWM_CLIPPED);
+        }
+    }
+
+    /// Reads every wired accelerometer into its channel's `accel` (the previous tick's sample
+    /// with the one-sample delay).
+    fn sample_accels(&mut self, n: usize) {
+        for (k, a) in self.accels.iter_mut().enumerate().take(n) {
+            if self.accel_mask & (1 << k) == 0 {
+                continue;
+            }
+            let z = a.read_z().unwrap_or(0);
+            let ch = &mut self.st.ch[k];
+            ch.accel = if self.delay {
+                core::mem::replace(&mut ch.delayed_accel, z)
+            } else {
+                z
+            };
+        }
+    }
+
+    /// `a/g_n` of an accelerometer code: `code·lsb − 1` ([`crate::accel`]), as offset binary
+    /// through [`Scalar::from_code`] (no `f64`).
+    fn accel_pu(&self, z: i16) -> S {
+        let mut ov = false;
+        let frac = S::from_code((z as u16) ^ 0x8000, 16);
+        self.accel_offset
+            .sadd(frac.smul(self.accel_span, &mut ov), &mut ov)
     }
 
     /// Quantises a per-unit voltage to a duty and writes it; returns whether it clipped.
@@ -261,6 +376,9 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
         let mut events = Event::default();
         let mut fault = false;
         let mut codes = [0u16; MAX_CHANNELS];
+        if self.accel_mask != 0 {
+            self.sample_accels(n);
+        }
         for (k, code) in codes.iter_mut().enumerate().take(n) {
             let raw = read_channel(&mut self.spi, k as u8).ok();
             let ch = &mut self.st.ch[k];
@@ -285,20 +403,37 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle> Firmware<S, SPI, PWM> {
             }
             Mode::Off => S::ZERO,
         };
-        for (k, &code) in codes.iter().enumerate().take(n) {
-            let h = self.gap_pu(code);
-            let ch = &mut self.st.ch[k];
-            let out = if self.st.mode != Mode::Normal {
+        // Every channel runs one law, so the choice is made once per tick, not per channel.
+        if self.st.mode != Mode::Normal {
+            for (k, &code) in codes.iter().enumerate().take(n) {
+                let h = self.gap_pu(code);
                 // Coil alone at the ramped voltage: with KP = KI = 0 the law's voltage is 1 + y.
+                let ch = &mut self.st.ch[k];
                 let target = ch.ramp_from.smul(ramp_factor, &mut ov);
                 ch.law.inner.y = target.ssub(S::ONE, &mut ov);
-                self.coils[k].update(&mut ch.law.inner, h)
-            } else {
-                self.laws[k].update(&mut ch.law, Measurement::gap(h))
-            };
-            events.raise(map_status(out.status));
-            if self.apply(k, out.voltage) {
-                events.raise(Event::PWM_CLIPPED);
+                let out = self.coils[k].update(&mut ch.law.inner, h);
+                self.drive(k, &out, &mut events);
+            }
+        } else if self.paper {
+            for (k, &code) in codes.iter().enumerate().take(n) {
+                let h = self.gap_pu(code);
+                // `Law::update`'s paper arm is this call.
+                let inner = &mut self.st.ch[k].law.inner;
+                let out = self.laws[k].levitation().update(inner, h);
+                self.drive(k, &out, &mut events);
+            }
+        } else {
+            for (k, &code) in codes.iter().enumerate().take(n) {
+                let h = self.gap_pu(code);
+                let wired = self.accel_mask & (1 << k) != 0;
+                let accel = wired.then(|| self.accel_pu(self.st.ch[k].accel));
+                let m = Measurement {
+                    gap: h,
+                    accel,
+                    current: None,
+                };
+                let out = self.laws[k].update(&mut self.st.ch[k].law, m);
+                self.drive(k, &out, &mut events);
             }
         }
         if self.st.mode == Mode::Ramp {

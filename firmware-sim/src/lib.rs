@@ -4,6 +4,7 @@
 //! * [`firmware`]: the control loop, generic over embedded-hal 1.0 (`SpiDevice` ADC,
 //!   `SetDutyCycle` H-bridges) and over the core's scalar type.
 //! * [`adc`], [`hbridge`]: the simulated converter chip and power stage.
+//! * [`accel`]: the magnet's accelerometer on SPI (driver, simulated part; state law).
 //! * [`supervision`]: sensor checks and the fault reactions.
 //! * [`protocol`]: the framed wire format (postcard + CRC-32 + COBS, sequence numbers).
 //! * [`server`]: executes protocol requests on the firmware (step / commit / reply cache);
@@ -16,6 +17,7 @@ extern crate std;
 
 pub use heapless;
 
+pub mod accel;
 pub mod adc;
 pub mod firmware;
 pub mod hbridge;

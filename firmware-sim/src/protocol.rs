@@ -18,13 +18,16 @@
 
 use heapless::Vec;
 /// The law types of [`Config::law`]: the core's own, serialised as they are.
-pub use maglev_core::{gap_control::GapParams, LawKind};
+pub use maglev_core::{gap::Geometry, gap_control::GapParams, law::state::StateParams, LawKind};
 use serde::{Deserialize, Serialize};
 
 /// Protocol version carried in every envelope; a mismatch is answered with [`Nack::Version`].
 /// 2: [`Config::law`] added (postcard is not self-describing, so the layout changed).
 /// 3: [`Config::watchdog_ticks`] added, and [`Nack::BadConfig`] carries a [`ConfigFault`].
-pub const VERSION: u8 = 3;
+/// 4: [`Config::geometry`] added (the state law's observer needs how the magnet faces its
+/// rail, which `StateParams` does not serialise), [`Request::StepAccel`] and
+/// [`ConfigKey::Accelerometer`] appended.
+pub const VERSION: u8 = 4;
 /// Most magnet channels one firmware serves (4 wheels × 3 magnets = 12 for the Fig. 1 car).
 pub const MAX_CHANNELS: usize = 16;
 /// Most ADC codes in one step request (channels × ticks per step).
@@ -96,6 +99,10 @@ pub struct Config {
     /// fault reaction (0 = off; otherwise more than `ticks_per_step`). See
     /// [`crate::server::Server::timer_tick`].
     pub watchdog_ticks: u16,
+    /// How every magnet faces its rail (docs/model.md §2): the sign by which the magnet's
+    /// upward motion moves its gap, which the state law's observer needs with the
+    /// accelerometer (`maglev_core::law::state`); unused by the other laws.
+    pub geometry: Geometry,
 }
 
 /// One magnet channel's static load (N) and initial gap (m).
@@ -122,6 +129,16 @@ pub enum Request {
     Commit { step: u32 },
     /// Liveness check.
     Ping,
+    /// A [`Request::Step`] with accelerometer samples (the state law): `accel` holds, tick
+    /// by tick, one code ([`crate::accel::AccelModel::code`]) for each channel whose bit is
+    /// set in `wired` (bit k: channel k), in channel order. Appended last, so every earlier
+    /// message keeps its bytes.
+    StepAccel {
+        step: u32,
+        codes: Vec<u16, MAX_SAMPLES>,
+        wired: u16,
+        accel: Vec<i16, MAX_SAMPLES>,
+    },
 }
 
 /// Firmware → host (fixed-size, see [`Request`]).
@@ -196,6 +213,9 @@ pub enum ConfigKey {
     WatchdogTicks,
     /// The state law's gains and timing (`LawKind::State`).
     StateLaw,
+    /// A channel's accelerometer (state law): it did not answer with its id, or the number
+    /// type cannot hold its scale.
+    Accelerometer,
 }
 
 /// What is wrong with a [`Config`] value.
@@ -237,6 +257,7 @@ impl ConfigKey {
             StuckTicks => "stuck_ticks",
             RampTicks => "ramp_ticks",
             WatchdogTicks => "watchdog_ticks",
+            Accelerometer => "accelerometer",
         }
     }
 
@@ -263,6 +284,7 @@ impl ConfigKey {
             StuckTicks => "0 (off) or 2..=65535",
             RampTicks => "1..=65535",
             WatchdogTicks => "0 (off) or more than ticks_per_step",
+            Accelerometer => "one per channel answering WHO_AM_I = 0x7B, f32 firmware",
         }
     }
 }

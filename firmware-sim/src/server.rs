@@ -13,6 +13,7 @@
 //! Used as is by the host in-process, by the `maglev-firmware` host process, and by the QEMU
 //! image (feed it bytes with [`Server::push_byte`]).
 
+use crate::accel::AccelChip;
 use crate::adc::AdcChip;
 use crate::firmware::{Firmware, FwState};
 use crate::hbridge::HBridge;
@@ -26,7 +27,7 @@ use maglev_core::Scalar;
 
 /// A configured firmware in one scalar type, with its committed and trial states.
 pub struct Node<S> {
-    fw: Firmware<S, AdcChip, HBridge>,
+    fw: Firmware<S, AdcChip, HBridge, AccelChip>,
     committed: FwState<S>,
     trial: Option<(u32, FwState<S>)>,
     ticks: u16,
@@ -41,7 +42,11 @@ impl<S: Scalar> Node<S> {
         for _ in 0..cfg.channels.len() {
             let _ = pwm.push(HBridge::new(cfg.pwm_bits));
         }
-        let fw = Firmware::new(cfg, AdcChip::default(), pwm)?;
+        let mut accels = Vec::new();
+        for _ in 0..cfg.channels.len() {
+            let _ = accels.push(AccelChip::default());
+        }
+        let fw = Firmware::new(cfg, AdcChip::default(), pwm, accels)?;
         Ok(Node {
             committed: fw.state(),
             fw,
@@ -70,17 +75,32 @@ impl<S: Scalar> Node<S> {
         events
     }
 
-    fn step(&mut self, step: u32, codes: &[u16]) -> Response {
+    /// `accel`: the wired channels (bit k: channel k) and their samples, tick by tick, in
+    /// channel order ([`Request::StepAccel`]); `(0, [])` for a plain `Step`.
+    fn step(&mut self, step: u32, codes: &[u16], (wired, accel): (u16, &[i16])) -> Response {
         let n = self.fw.channels();
-        if codes.len() != n * self.ticks as usize {
+        let per_tick = wired.count_ones() as usize;
+        let ticks = self.ticks as usize;
+        if codes.len() != n * ticks
+            || accel.len() != per_tick * ticks
+            || (n < 16 && wired >> n != 0)
+        {
             return Response::Nack(Nack::BadRequest);
         }
         self.idle = 0;
         self.fw.restore(&self.committed);
+        self.fw.wire_accelerometers(wired);
         let mut events = 0u16;
-        for tick in codes.chunks_exact(n) {
+        for (j, tick) in codes.chunks_exact(n).enumerate() {
             for (k, &c) in tick.iter().enumerate() {
                 self.fw.bus_mut().set_input(k, c);
+            }
+            let mut samples = accel[j * per_tick..(j + 1) * per_tick].iter();
+            for k in (0..n).filter(|k| wired & (1 << k) != 0) {
+                let z = samples.next().copied().unwrap_or(0);
+                if let Some(chip) = self.fw.accel_mut(k) {
+                    chip.set_sample(z);
+                }
             }
             events |= self.fw.tick().0;
         }
@@ -165,8 +185,18 @@ impl Server {
             Request::Config(cfg) => self.configure(cfg),
             Request::Step { step, codes } => match &mut self.engine {
                 Engine::None => Response::Nack(Nack::NotConfigured),
-                Engine::Fixed(n) => n.step(*step, codes),
-                Engine::Float(n) => n.step(*step, codes),
+                Engine::Fixed(n) => n.step(*step, codes, (0, &[])),
+                Engine::Float(n) => n.step(*step, codes, (0, &[])),
+            },
+            Request::StepAccel {
+                step,
+                codes,
+                wired,
+                accel,
+            } => match &mut self.engine {
+                Engine::None => Response::Nack(Nack::NotConfigured),
+                Engine::Fixed(n) => n.step(*step, codes, (*wired, accel)),
+                Engine::Float(n) => n.step(*step, codes, (*wired, accel)),
             },
             Request::Commit { step } => match &mut self.engine {
                 Engine::None => Response::Nack(Nack::NotConfigured),

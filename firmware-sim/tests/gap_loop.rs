@@ -64,6 +64,7 @@ fn config(law: LawKind) -> Config {
         stuck_ticks: 0,
         ramp_ticks: 50,
         watchdog_ticks: 0,
+        geometry: Geometry::Ems,
     }
 }
 

@@ -45,6 +45,7 @@ fn config(scalar: ScalarKind) -> Config {
         stuck_ticks: 100,
         ramp_ticks: 50,
         watchdog_ticks: 0,
+        geometry: Geometry::Ems,
     }
 }
 
@@ -485,4 +486,75 @@ fn link_loss_watchdog_starts_the_fault_reaction_and_latches() {
         Response::Ready { .. }
     ));
     assert_eq!(s.timer_tick(), 0);
+}
+
+/// The state law with gains for this magnet (those of host-sim/tests/state_law.rs).
+fn state_config(scalar: ScalarKind) -> Config {
+    use maglev_core::law::state::StateParams;
+    Config {
+        law: LawKind::State(StateParams {
+            kp: 51_600.0,
+            kd: 1_600.0,
+            ka: 40.0,
+            ki: 4_300.0,
+            kc: 10.0,
+            v_max: 500.0,
+            rate_hz: 10_000.0,
+            observer_hz: 300.0,
+            geometry: Geometry::Ems,
+        }),
+        ..config(scalar)
+    }
+}
+
+/// `StepAccel`: channel 0 wired, one code a tick (`g` g of specific force, as the part reads).
+fn step_accel(step: u32, g: f64, wired: u16, per_tick: usize) -> Request {
+    let code = maglev_firmware_sim::accel::AccelModel.code((g - 1.0) * 9.81);
+    let mut accel = HVec::new();
+    for _ in 0..TICKS * per_tick {
+        accel.push(code).unwrap();
+    }
+    Request::StepAccel {
+        step,
+        codes: codes(step, None),
+        wired,
+        accel,
+    }
+}
+
+#[test]
+fn step_accel_feeds_the_state_law_and_checks_its_shape() {
+    let mut s = Server::new();
+    assert!(matches!(
+        s.handle(&env(1, Request::Config(state_config(ScalarKind::F32))))
+            .msg,
+        Response::Ready { channels: 3 }
+    ));
+    // At rest (+1 g) and with the magnet accelerating upward at 0.5 g: channel 0's voltage
+    // (duty) differs, the unwired channels do not.
+    let rest = reply(s.handle(&env(2, step_accel(1, 1.0, 0b001, 1))));
+    let up = reply(s.handle(&env(3, step_accel(1, 1.5, 0b001, 1))));
+    assert_ne!(rest.channels[0], up.channels[0]);
+    assert_eq!(rest.channels[1..], up.channels[1..]);
+    // The same request again gives the same reply (it starts from the committed state).
+    assert_eq!(rest, reply(s.handle(&env(4, step_accel(1, 1.0, 0b001, 1)))));
+    // Too few or too many codes, or a wired channel that does not exist: refused.
+    for (seq, req) in [
+        (5, step_accel(1, 1.0, 0b011, 1)),
+        (6, step_accel(1, 1.0, 0b001, 2)),
+        (7, step_accel(1, 1.0, 0b1000, 1)),
+    ] {
+        assert_eq!(
+            s.handle(&env(seq, req)).msg,
+            Response::Nack(Nack::BadRequest)
+        );
+    }
+    // Fixed point cannot hold the state law: refused by its key.
+    match s
+        .handle(&env(8, Request::Config(state_config(ScalarKind::I4F28))))
+        .msg
+    {
+        Response::Nack(Nack::BadConfig(f)) => assert_eq!(f.key, ConfigKey::StateLaw),
+        other => panic!("{other:?}"),
+    }
 }

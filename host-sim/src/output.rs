@@ -7,7 +7,7 @@ pub mod staging;
 use crate::case::Case;
 use crate::plot::{self, Plot, Series};
 use crate::probes::CsvRecorder;
-use crate::simulation::{GapRanges, Outcome};
+use crate::simulation::{voltage_limit, CoilRanges, GapRanges, Outcome};
 use crate::{Error, Result};
 use serde::Serialize;
 pub use staging::{write_atomic, Staging};
@@ -44,6 +44,25 @@ pub struct Summary {
     pub contact_loss_steps: usize,
     /// Each magnet's gap range over the run (m).
     pub gaps: Vec<GapRange>,
+    /// The smallest gap of any magnet over the run (m); null without magnets.
+    pub min_gap_m: Option<f64>,
+    /// The largest coil current `|i|` (A) and voltage `|V|` (V) of any magnet, as its law
+    /// output them at the end of each step; null where no coil is reported.
+    #[serde(rename = "peak_current_A")]
+    pub peak_current: Option<f64>,
+    #[serde(rename = "peak_voltage_V")]
+    pub peak_voltage: Option<f64>,
+    /// The law's voltage bound `V_max` (V); null when it has none (the paper's law with
+    /// `vmax_V = inf`).
+    #[serde(rename = "voltage_limit_V")]
+    pub voltage_limit: Option<f64>,
+    /// The longest time any one magnet spent saturated (s): Δt × the steps in which its law
+    /// clamped the voltage at `±V_max` in at least one control period or sub-step; null when
+    /// the law has no bound or no coil is reported.
+    #[serde(rename = "saturated_s")]
+    pub saturated: Option<f64>,
+    /// Each magnet's coil over the run, in the order of `gaps`.
+    pub coils: Vec<CoilSummary>,
     pub peaks: std::collections::BTreeMap<String, Option<Peak>>,
 }
 
@@ -54,6 +73,45 @@ pub struct GapRange {
     pub magnet: String,
     pub min_m: f64,
     pub max_m: f64,
+}
+
+/// One magnet's coil over a run (summary.json `coils`; the run-wide figures of [`Summary`]
+/// are the extremes of these).
+#[derive(Serialize, Debug, Clone, PartialEq)]
+pub struct CoilSummary {
+    /// As in [`GapRange::magnet`].
+    pub magnet: String,
+    #[serde(rename = "peak_current_A")]
+    pub peak_current: f64,
+    #[serde(rename = "peak_voltage_V")]
+    pub peak_voltage: f64,
+    /// Null when the law has no voltage bound.
+    #[serde(rename = "saturated_s")]
+    pub saturated: Option<f64>,
+}
+
+/// Every magnet's coil figures, wheel by wheel; saturation times only under a voltage bound.
+pub fn coil_summaries(ranges: &CoilRanges, dt: f64, bounded: bool) -> Vec<CoilSummary> {
+    ranges
+        .iter()
+        .enumerate()
+        .flat_map(|(i, r)| {
+            ["z", "left", "right"]
+                .iter()
+                .zip(r)
+                .map(move |(m, c)| CoilSummary {
+                    magnet: format!("wheel{}.{m}", i + 1),
+                    peak_current: c.peak_current,
+                    peak_voltage: c.peak_voltage,
+                    saturated: bounded.then_some(c.saturated_steps as f64 * dt),
+                })
+        })
+        .collect()
+}
+
+/// The largest of `xs`, `None` if empty.
+fn largest(xs: impl Iterator<Item = f64>) -> Option<f64> {
+    xs.reduce(f64::max)
 }
 
 /// Names and ranges of every magnet's gap, wheel by wheel.
@@ -95,6 +153,13 @@ impl Summary {
             .histories()
             .map(|(n, y)| (n.to_string(), columns.peak(y)))
             .collect();
+        let gaps = gap_ranges(&outcome.gap_ranges);
+        let limit = case
+            .controller
+            .as_ref()
+            .and_then(|c| voltage_limit(&case.law, c));
+        let coils = coil_summaries(&outcome.coil_ranges, case.dt, limit.is_some());
+        let min_gap = gaps.iter().map(|g| g.min_m).reduce(f64::min);
         Summary {
             scenario: scenario.to_string(),
             model: format!("{:?}", case.model).to_lowercase(),
@@ -113,7 +178,13 @@ impl Summary {
             unconverged_steps: outcome.unconverged_steps,
             collision_steps: outcome.collision_steps,
             contact_loss_steps: outcome.contact_loss_steps,
-            gaps: gap_ranges(&outcome.gap_ranges),
+            min_gap_m: min_gap,
+            peak_current: largest(coils.iter().map(|c| c.peak_current)),
+            peak_voltage: largest(coils.iter().map(|c| c.peak_voltage)),
+            voltage_limit: limit,
+            saturated: largest(coils.iter().filter_map(|c| c.saturated)),
+            gaps,
+            coils,
             peaks,
         }
     }

@@ -99,6 +99,58 @@ pub struct Settings {
 /// guidance left, guidance right.
 pub type GapRanges = Vec<[(f64, f64); 3]>;
 
+/// One magnet's coil at the end of a committed step, as its law output it (SI): the current
+/// (A), the voltage (V), and whether the law clamped the voltage at `±V_max` in at least one
+/// of its control periods (or the paper's sub-steps) within the step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Coil {
+    pub current: f64,
+    pub voltage: f64,
+    pub saturated: bool,
+}
+
+/// One magnet's coil over a run: the largest `|i|` (A) and `|V|` (V) of the committed steps
+/// (t = 0 included), and the number of steps in which its law clamped the voltage.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CoilRange {
+    pub peak_current: f64,
+    pub peak_voltage: f64,
+    pub saturated_steps: usize,
+}
+
+impl CoilRange {
+    /// The range of one step's sample alone (saturation is counted per step, not at t = 0).
+    fn of(c: &Coil) -> Self {
+        CoilRange {
+            peak_current: c.current.abs(),
+            peak_voltage: c.voltage.abs(),
+            saturated_steps: 0,
+        }
+    }
+
+    /// Takes in a committed step's sample.
+    fn add(&mut self, c: &Coil) {
+        self.peak_current = self.peak_current.max(c.current.abs());
+        self.peak_voltage = self.peak_voltage.max(c.voltage.abs());
+        self.saturated_steps += usize::from(c.saturated);
+    }
+}
+
+/// Per wheel, each magnet's [`CoilRange`] (levitation, guidance left, guidance right); empty
+/// when the magnets report no coil ([`Magnets::coils`]).
+pub type CoilRanges = Vec<[CoilRange; 3]>;
+
+/// The voltage bound `V_max` (V) the law clamps at, if it has one: the state law's own
+/// `vmax_V`, otherwise the paper's Eq. 11 bound `controller.vmax_V` (the gap loop drives the
+/// paper's law); `None` when that is infinite.
+pub fn voltage_limit(law: &LawKind, controller: &Params) -> Option<f64> {
+    let v = match law {
+        LawKind::State(p) => p.v_max,
+        LawKind::Paper | LawKind::GapLoop(_) => controller.v_max,
+    };
+    v.is_finite().then_some(v)
+}
+
 /// Result of a run.
 pub struct Outcome {
     /// Steps run (t = 0 is not a step).
@@ -116,6 +168,9 @@ pub struct Outcome {
     pub first_collision_t: Option<f64>,
     /// Each magnet's gap range over the run (empty for a moving force).
     pub gap_ranges: GapRanges,
+    /// Each magnet's coil over the run (empty for a moving force, and where the magnets
+    /// report no coil).
+    pub coil_ranges: CoilRanges,
     /// Steps in which some wheel–rail contact lifted off (its force clamped at zero).
     pub contact_loss_steps: usize,
     /// Each contact's force range `(min, max)` (N, compressive) over the run, clamped.
@@ -158,6 +213,13 @@ pub trait Magnets {
 
     /// The core's status flags of the last [`Magnets::forces`] call (recorded per step).
     fn status(&self) -> Status;
+
+    /// Per wheel, each magnet's coil (levitation, guidance left, guidance right) at the last
+    /// committed step (before the first commit: at t = 0); empty where the magnets do not
+    /// report their coils.
+    fn coils(&self) -> &[[Coil; 3]] {
+        &[]
+    }
 }
 
 /// Each wheel's gaps at t = 0 with the vehicle at rest at its static position:

@@ -1,6 +1,7 @@
 //! `maglev hil` end to end on a short passage: the byte-stream link gives bit-identical
 //! results to the in-process firmware, with and without injected link faults, under both
-//! laws; the firmware's gap loop holds the gap and stays near the ideal run; sensor faults
+//! laws; the state law's firmware reads its accelerometers identically over both links; the
+//! firmware's gap loop holds the gap and stays near the ideal run; sensor faults
 //! raise their events at the documented times; a dead link is reported, not hung on.
 
 use maglev_firmware_sim::protocol::Request;
@@ -134,6 +135,60 @@ fn gap_loop_firmware_holds_the_gap_bit_identically_over_the_stream_link() {
         c.wheel1_gap_z.max_abs > 1e-6,
         "suspiciously identical: {c:?}"
     );
+}
+
+/// The state law on 1000 kg EMS magnets (the gains of tests/state_law.rs), each levitation
+/// magnet's acceleration through the firmware's accelerometer (`maglev_firmware_sim::accel`).
+fn state_scenario(t_end: &str) -> Case {
+    let sets = [
+        format!("t_end={t_end}"),
+        "law=state".to_string(),
+        "geometry=ems".to_string(),
+        "vehicle.wheel_mass_kg=1000".to_string(),
+        "controller.state={kp_V_per_m=51600.0, kd_V_s_per_m=1600.0, ka_V_s2_per_m=40.0, \
+         ki_V_per_m_s=4300.0, kc_V_per_A=10.0, vmax_V=500.0}"
+            .to_string(),
+    ];
+    Case::load("paper-4.2", &sets).unwrap()
+}
+
+#[test]
+fn state_law_firmware_with_accelerometers_is_bit_identical_over_the_stream_link() {
+    let sc = state_scenario("0.2");
+    // f32: I4F28 cannot hold the observer's ω²·δ (core/src/law/state.rs), and the firmware
+    // refuses it by name.
+    let hs = HilSettings {
+        scalar: maglev_firmware_sim::protocol::ScalarKind::F32,
+        ..HilSettings::default()
+    };
+    let a = execute_hil(&sc, &hs, &mut InProc::default());
+    let mut link = socket_link(LinkFaults::default(), 2000);
+    let b = execute_hil(&sc, &hs, &mut link);
+    assert_eq!(bits(&a), bits(&b));
+    assert_eq!(a.0.events, b.0.events);
+    assert!(a.0.events.is_empty(), "{:?}", a.0.events.first());
+    // Against the ideal core run (f64, exact gaps and accelerations, 10 periods per 1 ms
+    // step): the firmware's quantised samples (0.3 µm gap, 0.49 mg acceleration) at 10 kHz.
+    let mut ideal = compare::recorder();
+    simulate(&sc, Controllers::Core, &mut ideal, |_| {}).unwrap();
+    let c = compare::compare(&a.1, &ideal, None).unwrap();
+    assert!(c.wheel1_gap_z.relative < 1e-3, "{c:?}");
+    assert!(c.midspan_z.relative < 1e-3, "{c:?}");
+    assert!(
+        c.wheel1_gap_z.max_abs > 1e-9,
+        "suspiciously identical: {c:?}"
+    );
+    // I4F28 is refused with the state law's key.
+    let fixed = HilSettings::default();
+    let mut rows = compare::recorder();
+    let firmware = Controllers::Firmware {
+        settings: &fixed,
+        link: &mut InProc::default(),
+    };
+    match simulate(&sc, firmware, &mut rows, |_| {}) {
+        Err(e) => assert!(e.to_string().contains("state_law"), "{e}"),
+        Ok(_) => panic!("I4F28 firmware ran the state law"),
+    }
 }
 
 #[test]

@@ -24,41 +24,175 @@ fn out_dir(name: &str) -> PathBuf {
     d
 }
 
+/// Runs `maglev run SCENARIO --set geometry=ems --set law=state --set GAINS` with `sets`,
+/// expecting success; returns summary.json.
+fn run_state(scenario: &str, name: &str, sets: &[String]) -> serde_json::Value {
+    let d = out_dir(name);
+    let mut args = vec![
+        "run",
+        scenario,
+        "--set",
+        "geometry=ems",
+        "--set",
+        "law=state",
+        "--set",
+        GAINS,
+        "--out",
+        d.to_str().unwrap(),
+    ];
+    for s in sets {
+        args.extend(["--set", s]);
+    }
+    let o = maglev(&args);
+    assert!(
+        o.status.success(),
+        "{name}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let s = summary(&d);
+    let _ = std::fs::remove_dir_all(&d);
+    s
+}
+
+fn summary(d: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap()
+}
+
+fn f(v: &serde_json::Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+/// Issue 26's limits on one run: no collision, every gap inside (0.5, 1.5)·h0, every coil's
+/// |V| within the law's V_max (from summary.json's coil figures, which must be there).
+fn within_limits(s: &serde_json::Value, what: &str) {
+    let h0 = 0.01;
+    assert_eq!(s["collision_steps"], 0, "{what}");
+    for g in s["gaps"].as_array().unwrap() {
+        let (lo, hi) = (f(&g["min_m"]), f(&g["max_m"]));
+        assert!(lo > 0.5 * h0 && hi < 1.5 * h0, "{what}: {g}");
+    }
+    let v_max = f(&s["voltage_limit_V"]);
+    assert_eq!(v_max, 500.0, "{what}: the GAINS' vmax_V");
+    let coils = s["coils"].as_array().unwrap();
+    assert_eq!(coils.len(), s["gaps"].as_array().unwrap().len(), "{what}");
+    for c in coils {
+        assert!(f(&c["peak_voltage_V"]) <= v_max, "{what}: {c}");
+        assert!(f(&c["peak_current_A"]) > 0.0, "{what}: {c}");
+    }
+    assert!(f(&s["peak_voltage_V"]) <= v_max, "{what}");
+    assert!(f(&s["min_gap_m"]) > 0.5 * h0, "{what}");
+}
+
+/// Issue 26 point 6: the Fig. 1 car under its rails with magnets of 200, 1000 and 2000 kg at
+/// 10, 100 and 150 m/s over the rough paper-4.2 span. (About 1 s of the test profile a run;
+/// the 10 m/s runs are 4100 steps.)
 #[test]
 fn heavy_ems_magnets_keep_their_gaps() {
-    for (mass, speed) in [("200", "150"), ("2000", "100"), ("2000", "150")] {
-        let d = out_dir(&format!("{mass}-{speed}"));
+    for mass in [200, 1000, 2000] {
+        for speed in [10, 100, 150] {
+            let what = format!("{mass} kg at {speed} m/s");
+            let s = run_state(
+                "paper-4.2",
+                &format!("{mass}-{speed}"),
+                &[
+                    format!("vehicle.wheel_mass_kg={mass}"),
+                    format!("speed={speed}"),
+                ],
+            );
+            within_limits(&s, &what);
+        }
+    }
+}
+
+/// Issue 26 point 6 on the §5 train (12 Fig. 6 carriages, 384 magnets, 35 spans; 5000 steps,
+/// about 40 s in release): `cargo test --release -p maglev-host-sim --test state_law --
+/// --ignored`. With `GAINS` (designed for the Fig. 1 car's magnets) this fails today: the
+/// Fig. 6 carriages' massless magnet nodes on their primary springs are not held
+/// (docs/hil.md has the figures); the limits stay as the issue states them.
+#[test]
+#[ignore]
+fn the_paper_5_train_keeps_its_gaps() {
+    let s = run_state("paper-5", "paper-5", &[]);
+    within_limits(&s, "paper-5");
+}
+
+/// summary.json's coil figures against closed forms: on a smooth rigid rail every magnet
+/// stays in its equilibrium, where `i = i0` and `V = R0·i0` (i0 = 43 A, R0 = 1 Ω) under any
+/// law; with no voltage bound there is no saturation time.
+#[test]
+fn coil_figures_at_equilibrium() {
+    let d = out_dir("equilibrium");
+    let o = maglev(&[
+        "run",
+        "paper-4.2",
+        "--set",
+        "model=rigid",
+        "--set",
+        "irregularity.enabled=false",
+        "--set",
+        "t_end=0.05",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s = summary(&d);
+    let _ = std::fs::remove_dir_all(&d);
+    let close = |v: f64, want: f64| (v - want).abs() <= 1e-9 * want;
+    assert!(close(f(&s["peak_current_A"]), 43.0), "{s}");
+    assert!(close(f(&s["peak_voltage_V"]), 43.0), "{s}");
+    assert!(close(f(&s["min_gap_m"]), 0.01), "{s}");
+    assert!(s["voltage_limit_V"].is_null() && s["saturated_s"].is_null());
+    let coils = s["coils"].as_array().unwrap();
+    assert_eq!(coils.len(), 12);
+    assert_eq!(coils[0]["magnet"], "wheel1.z");
+    assert_eq!(coils[11]["magnet"], "wheel4.right");
+    for c in coils {
+        assert!(close(f(&c["peak_current_A"]), 43.0), "{c}");
+        assert!(c["saturated_s"].is_null(), "{c}");
+    }
+}
+
+/// A tight bound (60 V: the static voltages are R0·i0·h/h0, 43–52 V at the guidance magnets'
+/// initial gaps) is hit on the rough rail: the time saturated is a positive whole number of
+/// steps within the run, and no coil's |V| exceeds the bound; the same under the paper's law
+/// with `controller.vmax_V` (which collides under this geometry, but clamps its voltage).
+#[test]
+fn a_tight_voltage_bound_saturates() {
+    let tight = GAINS.replace("vmax_V=500.0", "vmax_V=60.0");
+    for (law, bound) in [("state", tight.as_str()), ("paper", "controller.vmax_V=60")] {
+        let d = out_dir(&format!("tight-{law}"));
         let o = maglev(&[
             "run",
             "paper-4.2",
             "--set",
+            &format!("law={law}"),
+            "--set",
+            bound,
+            "--set",
+            "vehicle.wheel_mass_kg=1000",
+            "--set",
             "geometry=ems",
             "--set",
-            "law=state",
-            "--set",
-            &format!("vehicle.wheel_mass_kg={mass}"),
-            "--set",
-            &format!("speed={speed}"),
-            "--set",
-            GAINS,
-            "--strict",
+            "t_end=0.2",
             "--out",
             d.to_str().unwrap(),
         ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let s: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap())
-                .unwrap();
-        assert_eq!(s["collision_steps"], 0);
-        let h0 = 0.01;
-        for g in s["gaps"].as_array().unwrap() {
-            let (lo, hi) = (g["min_m"].as_f64().unwrap(), g["max_m"].as_f64().unwrap());
+        let s = summary(&d);
+        let _ = std::fs::remove_dir_all(&d);
+        assert!(o.status.code().is_some(), "{law}");
+        assert_eq!(f(&s["voltage_limit_V"]), 60.0, "{law}");
+        let sat = f(&s["saturated_s"]);
+        let steps = sat / 1e-3;
+        assert!(
+            sat > 0.0 && sat <= 0.2 + 1e-12 && (steps - steps.round()).abs() < 1e-6,
+            "{law}: {sat}"
+        );
+        for c in s["coils"].as_array().unwrap() {
             assert!(
-                lo > 0.5 * h0 && hi < 1.5 * h0,
-                "{mass} kg at {speed} m/s: {g}"
+                f(&c["peak_voltage_V"]) <= 60.0 * (1.0 + 1e-12),
+                "{law}: {c}"
             );
         }
-        let _ = std::fs::remove_dir_all(&d);
     }
 }
 

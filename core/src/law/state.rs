@@ -273,6 +273,98 @@ impl<S: Scalar> StateLaw<S> {
         gap: S,
         accel: Option<S>,
     ) -> Output<S> {
+        if let Some(out) = self.fast_update(coil, st, gap, accel) {
+            return out;
+        }
+        self.general_update(coil, st, gap, accel)
+    }
+
+    /// One control period per step in floating point (the firmware's case): the operations of
+    /// [`StateLaw::general_update`] on unchecked arithmetic, with the finiteness of every
+    /// value they flow into checked once before anything is stored. A float's checked
+    /// operation differs from the plain one only where the result is not finite, and every
+    /// intermediate here ends in one of the checked values (no operation maps a non-finite
+    /// operand to a finite result before them), so when the checks pass the result is the
+    /// general path's to the bit (`tests::fast_path_is_bit_identical`); otherwise `None` and
+    /// the general path runs from the untouched state.
+    #[inline]
+    fn fast_update(
+        &self,
+        coil: &mut State<S>,
+        st: &mut StateLawState<S>,
+        gap: S,
+        accel: Option<S>,
+    ) -> Option<Output<S>> {
+        if !S::FLOAT || self.n != 1 {
+            return None;
+        }
+        let one = S::ONE;
+        let eta_end = gap.sub_raw(one);
+        let acc_end = accel.unwrap_or(S::ZERO);
+        let (eta, acc) = (coil.eta, st.accel);
+        let d_eta = eta_end.sub_raw(eta).mul_raw(self.steps);
+        let d_acc = acc_end.sub_raw(acc).mul_raw(self.steps);
+        let i_pu = one.add_raw(coil.x).mul_raw(one.add_raw(eta));
+        let di = i_pu.sub_raw(one);
+        let dv = self
+            .kp
+            .mul_raw(eta)
+            .add_raw(self.kd.mul_raw(st.rate_est))
+            .sub_raw(self.ka.mul_raw(acc))
+            .add_raw(st.integral)
+            .sub_raw(self.kc.mul_raw(di));
+        let v = one.add_raw(dv);
+        let clamped = v > self.v_max || v < S::ZERO.sub_raw(self.v_max);
+        let integral = if clamped {
+            st.integral
+        } else {
+            st.integral.add_raw(self.ki_delta.mul_raw(eta))
+        };
+        let e = eta.sub_raw(st.eta_est);
+        let rate_change = self.accel_gain.mul_raw(acc).add_raw(self.l2.mul_raw(e));
+        let eta_est = st
+            .eta_est
+            .add_raw(self.delta.mul_raw(st.rate_est))
+            .add_raw(self.l1.mul_raw(e));
+        let rate_est = st.rate_est.add_raw(rate_change);
+        let eta1 = eta.add_raw(d_eta);
+        let acc1 = acc.add_raw(d_acc);
+        let h1 = one.add_raw(eta1);
+        let all = v
+            .add_raw(integral)
+            .add_raw(eta_est)
+            .add_raw(rate_est)
+            .add_raw(h1)
+            .add_raw(acc1)
+            .add_raw(eta_end);
+        // A sum of finite values can overflow; then the general path decides.
+        if !all.is_finite_value() {
+            return None;
+        }
+        st.integral = integral;
+        st.eta_est = eta_est;
+        st.rate_est = rate_est;
+        let mut ov = false;
+        coil.y = v
+            .clamp_to(self.v_max.sneg(&mut ov), self.v_max)
+            .sub_raw(one);
+        let mut out = self.coil.update(coil, h1);
+        if clamped {
+            out.status = out.status.union(Status::VOLTAGE_SATURATED);
+        }
+        coil.eta = eta_end;
+        st.accel = acc_end;
+        Some(out)
+    }
+
+    /// [`StateLaw::update`] with every operation checked, any number of periods.
+    fn general_update(
+        &self,
+        coil: &mut State<S>,
+        st: &mut StateLawState<S>,
+        gap: S,
+        accel: Option<S>,
+    ) -> Output<S> {
         let mut ov = false;
         let eta_end = gap.ssub(S::ONE, &mut ov);
         let acc_end = accel.unwrap_or(S::ZERO);
@@ -489,6 +581,71 @@ mod tests {
             p.compile::<I4F28>(),
             Err(ParamError::Unrepresentable { .. })
         ));
+    }
+
+    /// The float fast path (one period per step) gives the general path's bits, state and
+    /// status, on 200 000 pseudo-random states and samples per type, from ordinary to absurd
+    /// (saturating voltages, non-finite and huge values that make it decline).
+    #[test]
+    fn fast_path_is_bit_identical() {
+        fn check<S: Scalar + core::fmt::Debug>(seed: u64) -> (u32, u32) {
+            let (mut m, vb_h0, tau) = paper_magnet(9810.0);
+            m.dt = 1e-4;
+            let mut g = gains(3.0 * vb_h0, 2.0 * tau * 2.0 * vb_h0);
+            (g.ka, g.ki, g.kc, g.v_max) = (40.0, 0.5 * vb_h0, 10.0, 500.0);
+            let law = g.compile::<S>(&m).unwrap();
+            let mut s = seed;
+            let mut next = || {
+                s ^= s << 13;
+                s ^= s >> 7;
+                s ^= s << 17;
+                s
+            };
+            let (mut fast, mut declined) = (0, 0);
+            for _ in 0..200_000 {
+                let mut val = |scale: f64| {
+                    let r = next();
+                    let u = (r >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+                    let mut ov = false;
+                    let big = S::from_f64(0.9 * S::MAX_ABS * u, &mut ov);
+                    match r & 0xFF {
+                        0 => big.add_raw(big),                           // ±inf
+                        1 => big.add_raw(big).sub_raw(big.add_raw(big)), // NaN
+                        2 | 3 => big,
+                        4 => S::from_f64(1e6 * u, &mut ov),
+                        _ => S::from_f64(scale * u, &mut ov),
+                    }
+                };
+                let mut coil = State::<S>::default();
+                (coil.x, coil.y, coil.eta) = (val(0.5), val(0.5), val(0.5));
+                let mut st = StateLawState {
+                    integral: val(3.0),
+                    eta_est: val(0.5),
+                    rate_est: val(50.0),
+                    accel: val(2.0),
+                };
+                let (gap, acc) = (S::ONE.sadd(val(0.5), &mut false), val(2.0));
+                let accel = (next() & 1 == 0).then_some(acc);
+                let (mut c1, mut s1) = (coil, st);
+                let want = law.general_update(&mut c1, &mut s1, gap, accel);
+                match law.fast_update(&mut coil, &mut st, gap, accel) {
+                    Some(out) => {
+                        fast += 1;
+                        assert_eq!(std::format!("{out:?}"), std::format!("{want:?}"));
+                        assert_eq!(std::format!("{coil:?}"), std::format!("{c1:?}"));
+                        assert_eq!(std::format!("{st:?}"), std::format!("{s1:?}"));
+                    }
+                    None => declined += 1,
+                }
+            }
+            (fast, declined)
+        }
+        let (f32_fast, f32_declined) = check::<f32>(0x9E37_79B9_7F4A_7C15);
+        let (f64_fast, f64_declined) = check::<f64>(0x2545_F491_4F6C_DD1D);
+        // Both paths are exercised.
+        for (f, d) in [(f32_fast, f32_declined), (f64_fast, f64_declined)] {
+            assert!(f > 150_000 && d > 1_000, "fast {f}, declined {d}");
+        }
     }
 
     #[test]

@@ -11,6 +11,7 @@ use core::fmt::Write;
 use maglev_core::scalar::I4F28;
 use maglev_firmware_sim::board::car_tick;
 use maglev_firmware_sim::board::selftest::{call_cost, op_costs, report, run, Config, Measure};
+use maglev_firmware_sim::protocol::LawKind;
 
 /// Instruction budget per fixed-point update without the internal loop (issue 4, item 5).
 const BUDGET_FIXED: u32 = 250;
@@ -26,7 +27,7 @@ fn selftest<W: Write, M: Measure>(w: &mut W, m: &M) -> core::fmt::Result {
     call_cost::<I4F28, _, _>(w, m)?;
     op_costs::<I4F28, _, _>(w, m)?;
     // The car on a 48 MHz Cortex-M0 (STM32F0-class: 1 flash wait state, 2-cycle loads, 3-cycle taken branches: 1.5 cycles per insn assumed).
-    car_tick::report::<I4F28, _, _>(w, m, f64::INFINITY, "paper", 48, 150)?;
+    car_tick::report::<I4F28, _, _>(w, m, f64::INFINITY, LawKind::Paper, "paper", 48, 150)?;
     Ok(())
 }
 

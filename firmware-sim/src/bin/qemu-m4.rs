@@ -10,11 +10,14 @@
 use core::fmt::Write;
 use maglev_core::scalar::I4F28;
 use maglev_firmware_sim::board::selftest::{call_cost, op_costs, report, run, Config, Measure};
-use maglev_firmware_sim::board::{car_tick, lower_bound};
+use maglev_firmware_sim::board::{car_tick, lower_bound, state_law};
+use maglev_firmware_sim::protocol::LawKind;
 
 /// Instruction budgets per update without the internal loop (issue 4, item 5).
 const BUDGET_F32: u32 = 60;
 const BUDGET_FIXED: u32 = 250;
+/// The state law's update, f32, net of the harness (issue 26, point 7).
+const BUDGET_STATE_F32: u32 = 150;
 
 fn selftest<W: Write, M: Measure>(w: &mut W, m: &M) -> core::fmt::Result {
     let mut counts = [None; 4];
@@ -34,9 +37,14 @@ fn selftest<W: Write, M: Measure>(w: &mut W, m: &M) -> core::fmt::Result {
         return Err(core::fmt::Error); // fails the image: the experiment no longer matches
     }
     // The car on one MCU: a 168 MHz STM32F4-class Cortex-M4F, 2 cycles per instruction.
-    car_tick::report::<f32, _, _>(w, m, f64::INFINITY, "paper", 168, 200)?;
-    car_tick::report::<I4F28, _, _>(w, m, f64::INFINITY, "paper", 168, 200)?;
-    car_tick::report::<f32, _, _>(w, m, 200.0, "v_max=200V", 168, 200)?;
+    let paper = LawKind::Paper;
+    car_tick::report::<f32, _, _>(w, m, f64::INFINITY, paper, "paper", 168, 200)?;
+    car_tick::report::<I4F28, _, _>(w, m, f64::INFINITY, paper, "paper", 168, 200)?;
+    car_tick::report::<f32, _, _>(w, m, 200.0, paper, "v_max=200V", 168, 200)?;
+    // The state law (issue 26): one update, and the car's tick with 4 accelerometers.
+    state_law::report::<f32, _, _>(w, m, BUDGET_STATE_F32)?;
+    let state = LawKind::State(state_law::gains());
+    car_tick::report::<f32, _, _>(w, m, f64::INFINITY, state, "state", 168, 200)?;
     Ok(())
 }
 

@@ -6,11 +6,12 @@
 //! The tick is `Firmware::tick` as the server runs it: per channel one SPI transaction with
 //! the simulated ADC chip, supervision, the law update (`n_sub = 1`, the core's fast path),
 //! one PWM write. The gaps wobble by a few codes per tick so that no sensor looks stuck.
+use crate::accel::{AccelChip, AccelModel};
 use crate::adc::AdcChip;
 use crate::board::selftest::Measure;
 use crate::firmware::Firmware;
 use crate::hbridge::HBridge;
-use crate::protocol::{ChannelInit, Config, LawKind, ScalarKind, MAX_CHANNELS};
+use crate::protocol::{ChannelInit, Config, Geometry, LawKind, ScalarKind, MAX_CHANNELS};
 use core::fmt::{self, Write};
 use heapless::Vec;
 use maglev_core::Scalar;
@@ -20,9 +21,10 @@ pub const CHANNELS: usize = 12;
 /// Ticks measured.
 pub const TICKS: u32 = 20;
 
-/// The car's configuration: the paper's law at 10 kHz, 16-bit ADC over 0–20 mm, 12-bit PWM
-/// on 200 V; the supply bound `v_max` (V, `INFINITY` for none).
-pub fn car_config(scalar: ScalarKind, v_max: f64) -> Config {
+/// The car's configuration: `law` at 10 kHz, 16-bit ADC over 0–20 mm, 12-bit PWM on 200 V;
+/// the paper's supply bound `v_max` (V, `INFINITY` for none). Under the state law the magnets
+/// face their rails as EMS magnets do, and each levitation magnet carries an accelerometer.
+pub fn car_config(scalar: ScalarKind, v_max: f64, law: LawKind) -> Config {
     let mut channels = Vec::new();
     for _wheel in 0..4 {
         // Levitation (p0 of a Fig. 1 wheel) and the guidance pair at h0 ± 0.1 mm.
@@ -42,7 +44,7 @@ pub fn car_config(scalar: ScalarKind, v_max: f64) -> Config {
         ki: 6.0,
         alpha: 0.5,
         v_max,
-        law: LawKind::Paper,
+        law,
         channels,
         adc_bits: 16,
         adc_lsb_m: 0.02 / 65536.0,
@@ -53,27 +55,43 @@ pub fn car_config(scalar: ScalarKind, v_max: f64) -> Config {
         stuck_ticks: 100,
         ramp_ticks: 2000,
         watchdog_ticks: 0,
+        geometry: match law {
+            LawKind::State(_) => Geometry::Ems,
+            _ => Geometry::Paper,
+        },
     }
 }
 
+/// The levitation channels (the first of each wheel's three), which carry accelerometers.
+pub const LEVITATION: u16 = 0b0010_0100_1001;
+
 /// Instructions of one 12-channel tick: (fewest, most) over [`TICKS`] ticks without events.
-pub fn measure<S: Scalar, M: Measure>(m: &M, v_max: f64) -> Option<(u32, u32)> {
+pub fn measure<S: Scalar, M: Measure>(m: &M, v_max: f64, law: LawKind) -> Option<(u32, u32)> {
     let kind = if S::FLOAT {
         ScalarKind::F32
     } else {
         ScalarKind::I4F28
     };
-    let cfg = car_config(kind, v_max);
+    let cfg = car_config(kind, v_max, law);
     let mut pwm: Vec<HBridge, MAX_CHANNELS> = Vec::new();
     for _ in 0..CHANNELS {
         let _ = pwm.push(HBridge::new(cfg.pwm_bits));
     }
-    let mut fw = Firmware::<S, _, _>::new(&cfg, AdcChip::default(), pwm).ok()?;
+    let mut accels = Vec::new();
+    for _ in 0..CHANNELS {
+        let _ = accels.push(AccelChip::default());
+    }
+    let mut fw = Firmware::<S, _, _, _>::new(&cfg, AdcChip::default(), pwm, accels).ok()?;
+    fw.wire_accelerometers(LEVITATION);
+    let rest = AccelModel.code(0.0);
     let (mut lo, mut hi) = (u32::MAX, 0);
     for t in 0..TICKS {
         for (k, ch) in cfg.channels.iter().enumerate() {
             let code = (ch.gap / cfg.adc_lsb_m) as u16 + ((t as usize + k) % 3) as u16;
             fw.bus_mut().set_input(k, code);
+            if let Some(chip) = fw.accel_mut(k) {
+                chip.set_sample(rest + ((t as usize + k) % 3) as i16);
+            }
         }
         let mut events = 0;
         let n = m.count(&mut || events = fw.tick().0);
@@ -92,13 +110,14 @@ pub fn report<S: Scalar, W: Write, M: Measure>(
     w: &mut W,
     m: &M,
     v_max: f64,
+    law: LawKind,
     tag: &str,
     mhz: u32,
     cpi_x100: u32,
 ) -> fmt::Result {
     let cycles = mhz * 100; // cycles per 100 µs
     let budget = cycles * 100 / cpi_x100;
-    match measure::<S, M>(m, v_max) {
+    match measure::<S, M>(m, v_max, law) {
         Some((lo, hi)) => writeln!(
             w,
             "insns {}/car12 tick {tag}: {lo}..{hi} ({} per channel; budget {budget} = {mhz} MHz \

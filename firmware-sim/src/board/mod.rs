@@ -4,6 +4,7 @@
 //!   deterministically (exact bits in hex); platform-neutral, so it builds on the host too.
 //! * [`car_tick`]: one control tick of the 12 channels of a Fig. 1 car, against a clock budget.
 //! * [`lower_bound`]: the f32 step without the core's checks, to show what bounds the count.
+//! * [`state_law`]: one update of the state law (gap + accelerometer), counted.
 //! * `icount` (bare metal only): instructions per call, measured with SysTick under QEMU's
 //!   `-icount` (QEMU models no cycle counter).
 //! * `cmsdk_uart` (bare metal only): UART0 of mps2-an386 as a blocking byte stream
@@ -12,6 +13,7 @@
 pub mod car_tick;
 pub mod lower_bound;
 pub mod selftest;
+pub mod state_law;
 
 #[cfg(target_os = "none")]
 pub mod cmsdk_uart;

@@ -8,6 +8,12 @@
 //! request; forces from the reported flux. On convergence one `Commit`. Channels per wheel:
 //! levitation (Z gap), guidance left (`h0 + d`), guidance right (`h0 − d`), as in
 //! `maglev_core::guidance`.
+//!
+//! Under the state law each levitation magnet carries an accelerometer
+//! (`maglev_firmware_sim::accel`): its acceleration, interpolated across the step as the gaps
+//! are, goes to the firmware as the part's codes in a `StepAccel` request (the guidance
+//! magnets' laws run on their gaps alone, as in `maglev run`). The coil current is the
+//! firmware's own: its law integrates the coil (Eq. 9), as the core's does in `maglev run`.
 
 use super::board::{force, SensorFault, Sensors};
 use super::link::Link;
@@ -17,6 +23,7 @@ use crate::vehicle::Train;
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::Status;
+use maglev_firmware_sim::accel::AccelModel;
 use maglev_firmware_sim::protocol::{ChannelInit, Config, Nack, Reply, Request, Response};
 use maglev_firmware_sim::supervision::Event;
 
@@ -46,10 +53,25 @@ pub struct FirmwareMagnets<'a> {
     p0: Vec<f64>,
     geometry: Geometry,
     codes: maglev_firmware_sim::heapless::Vec<u16, { maglev_firmware_sim::protocol::MAX_SAMPLES }>,
+    /// Under the state law: the levitation magnets' accelerations (m/s², Z up) at the
+    /// committed step and at the last iterate, and the step's accelerometer codes.
+    accel: Option<Accels>,
     /// The reply of the last `Step` (its events are logged on commit).
     last: Option<Reply>,
     /// Every committed step that raised an event.
     pub events: Vec<EventRecord>,
+}
+
+/// The accelerometers of the levitation magnets (module docs).
+struct Accels {
+    committed: Vec<f64>,
+    used: Vec<f64>,
+    codes: maglev_firmware_sim::heapless::Vec<i16, { maglev_firmware_sim::protocol::MAX_SAMPLES }>,
+}
+
+/// Bit k set for every levitation channel k (the first of each wheel's three).
+fn levitation_channels(wheels: usize) -> u16 {
+    (0..wheels).fold(0, |m, i| m | 1 << (3 * i))
 }
 
 /// Every `--set fault` names one of the train's `count` channels (three a wheel:
@@ -122,6 +144,7 @@ impl<'a> FirmwareMagnets<'a> {
             stuck_ticks: hs.stuck_ticks,
             ramp_ticks: hs.ramp_ticks,
             watchdog_ticks: hs.watchdog_ticks,
+            geometry: s.geometry,
         };
         match link.call(Request::Config(cfg))? {
             Response::Ready { .. } => {}
@@ -142,6 +165,11 @@ impl<'a> FirmwareMagnets<'a> {
             p0: v.p0.clone(),
             geometry: s.geometry,
             codes: maglev_firmware_sim::heapless::Vec::new(),
+            accel: matches!(s.law, maglev_core::LawKind::State(_)).then(|| Accels {
+                committed: vec![0.0; v.p0.len()],
+                used: vec![0.0; v.p0.len()],
+                codes: maglev_firmware_sim::heapless::Vec::new(),
+            }),
             last: None,
             events: Vec::new(),
         })
@@ -161,11 +189,10 @@ impl Magnets for FirmwareMagnets<'_> {
         _t: f64,
         gaps_prev: &[WheelGaps],
         gaps_next: &[WheelGaps],
-        _accels: &[f64],
+        accels: &[f64],
         out: &mut [(f64, f64)],
     ) -> Result<()> {
-        // The firmware reads gap sensors only (no accelerometer channel in the protocol).
-        self.step_forces(step, gaps_prev, gaps_next, out)
+        self.step_forces(step, gaps_prev, gaps_next, accels, out)
     }
 
     /// `Commit`; logs the step's events.
@@ -185,6 +212,7 @@ impl FirmwareMagnets<'_> {
         step: u32,
         gaps_prev: &[WheelGaps],
         gaps_next: &[WheelGaps],
+        accels: &[f64],
         out: &mut [(f64, f64)],
     ) -> Result<()> {
         let chans = |g: &[WheelGaps]| -> Vec<f64> {
@@ -205,9 +233,31 @@ impl FirmwareMagnets<'_> {
                     })?;
             }
         }
-        let req = Request::Step {
-            step,
-            codes: self.codes.clone(),
+        let req = match &mut self.accel {
+            None => Request::Step {
+                step,
+                codes: self.codes.clone(),
+            },
+            Some(a) => {
+                a.used.copy_from_slice(accels);
+                a.codes.clear();
+                for j in 1..=ticks {
+                    let frac = j as f64 / ticks as f64;
+                    for (&p, &q) in a.committed.iter().zip(&a.used) {
+                        a.codes
+                            .push(AccelModel.code(p + frac * (q - p)))
+                            .map_err(|_| {
+                                Error::Firmware("too many samples per step for the protocol".into())
+                            })?;
+                    }
+                }
+                Request::StepAccel {
+                    step,
+                    codes: self.codes.clone(),
+                    wired: levitation_channels(a.used.len()),
+                    accel: a.codes.clone(),
+                }
+            }
         };
         let reply = expect_reply(self.link.call(req)?, step)?;
         for (i, o) in out.iter_mut().enumerate() {
@@ -235,6 +285,9 @@ impl FirmwareMagnets<'_> {
             .last
             .take()
             .ok_or_else(|| Error::Firmware(format!("commit of step {step} without a step")))?;
+        if let Some(a) = &mut self.accel {
+            a.committed.copy_from_slice(&a.used);
+        }
         if reply.events != 0 {
             self.events.push(EventRecord {
                 t,

@@ -3,7 +3,7 @@
 //! (`n_sub`) interpolating the gap inside the step — under any [`maglev_core::Law`]. Calls the
 //! core; never a host copy of a law.
 
-use super::{Magnets, Settings, WheelGaps};
+use super::{Coil, Magnets, Settings, WheelGaps};
 use crate::vehicle::Train;
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
@@ -47,6 +47,11 @@ pub struct CoreMagnets {
     /// The trial of the general path (one entry per wheel); the paper batch's trial is the
     /// inner states in `mag_st` (its filters `q` stay the committed ones).
     trial: Vec<(LawState<f64>, [LawState<f64>; 2])>,
+    /// The general path's outputs of its trial, per wheel `[levitation, left, right]` (the
+    /// batch's are in `mag_out`).
+    trial_out: Vec<[Output<f64>; 3]>,
+    /// Every magnet's coil at the last committed step ([`Magnets::coils`]).
+    coils: Vec<[Coil; 3]>,
     /// Which trial the last `forces` left.
     pending: Pending,
     status: Status,
@@ -84,6 +89,17 @@ impl CoreMagnets {
             mag_h: vec![0.0; n],
             mag_out: vec![Output::default(); n],
             trial: Vec::with_capacity(ctl.len()),
+            trial_out: Vec::with_capacity(ctl.len()),
+            coils: ctl
+                .iter()
+                .map(|c| {
+                    let out = |s: &LawState<f64>| c.law.levitation().output(&s.inner);
+                    coils(
+                        &c.law,
+                        &[out(&c.lev_state), out(&c.pair[0]), out(&c.pair[1])],
+                    )
+                })
+                .collect(),
             pending: Pending::None,
             ctl,
             status: Status::default(),
@@ -164,6 +180,8 @@ impl CoreMagnets {
             let p0 = magnet.p0;
             out[i] = (lev_out.force * p0, pair_out.force_y * p0);
             self.trial.push((st, pair));
+            self.trial_out
+                .push([lev_out, pair_out.left, pair_out.right]);
         }
         self.pending = Pending::General;
     }
@@ -182,6 +200,7 @@ impl Magnets for CoreMagnets {
         out: &mut [(f64, f64)],
     ) -> Result<()> {
         self.trial.clear();
+        self.trial_out.clear();
         self.pending = Pending::None;
         self.status = Status::default();
         let finite = gaps_next.iter().all(|g| g.0.is_finite() && g.1.is_finite());
@@ -203,11 +222,25 @@ impl Magnets for CoreMagnets {
                     c.pair[1].inner = st[2];
                 }
                 self.mag_committed.copy_from_slice(&self.mag_st);
+                for ((c, o), coil) in self
+                    .ctl
+                    .iter()
+                    .zip(self.mag_out.chunks_exact(3))
+                    .zip(&mut self.coils)
+                {
+                    *coil = coils(&c.law, o);
+                }
             }
             Pending::General => {
-                for (c, (st, pair)) in self.ctl.iter_mut().zip(self.trial.drain(..)) {
+                for ((c, (st, pair)), (o, coil)) in self
+                    .ctl
+                    .iter_mut()
+                    .zip(self.trial.drain(..))
+                    .zip(self.trial_out.iter().zip(&mut self.coils))
+                {
                     c.lev_state = st;
                     c.pair = pair;
+                    *coil = coils(&c.law, o);
                 }
                 self.gather_committed();
             }
@@ -219,6 +252,22 @@ impl Magnets for CoreMagnets {
     fn status(&self) -> Status {
         self.status
     }
+
+    fn coils(&self) -> &[[Coil; 3]] {
+        &self.coils
+    }
+}
+
+/// A wheel's three magnets' coils in SI from their law's outputs `[levitation, left, right]`.
+fn coils(law: &Law<f64>, o: &[Output<f64>]) -> [Coil; 3] {
+    [0, 1, 2].map(|k| {
+        let si = law.levitation().to_si(&o[k]);
+        Coil {
+            current: si.current,
+            voltage: si.voltage,
+            saturated: o[k].status.contains(Status::VOLTAGE_SATURATED),
+        }
+    })
 }
 
 #[cfg(test)]
@@ -285,6 +334,7 @@ mod tests {
                         .unwrap();
                     assert!(batch.pending == Pending::Batch);
                     general.trial.clear();
+                    general.trial_out.clear();
                     general.status = Status::default();
                     general.general(&gaps, &accels, &mut fg);
                     if step % 2 == 0 {
@@ -293,6 +343,7 @@ mod tests {
                             .unwrap();
                     } else {
                         mixed.trial.clear();
+                        mixed.trial_out.clear();
                         mixed.status = Status::default();
                         mixed.general(&gaps, &accels, &mut fm);
                     }
@@ -312,6 +363,8 @@ mod tests {
                     m.commit(step, 0.0).unwrap();
                 }
                 assert!(batch.commit(step, 0.0).is_err(), "a second commit");
+                assert_eq!(batch.coils(), general.coils(), "step {step}");
+                assert_eq!(batch.coils(), mixed.coils(), "step {step}");
             }
             assert!(moved, "the forces never left their static values");
         }

@@ -15,8 +15,8 @@
 
 use super::train::TrainState;
 use super::{
-    contact_force, magnet_gaps, written, GapRanges, Magnets, MovingLoad, Outcome, Profiles,
-    Settings, WheelGaps,
+    contact_force, magnet_gaps, written, CoilRange, CoilRanges, GapRanges, Magnets, MovingLoad,
+    Outcome, Profiles, Settings, WheelGaps,
 };
 use crate::guideway::{Guideway, PointLoad};
 use crate::probes::{Recorder, StepView, Wheels};
@@ -119,6 +119,7 @@ struct Iteration {
 /// The run's counters and ranges so far.
 struct Tally {
     gap_ranges: GapRanges,
+    coil_ranges: CoilRanges,
     contact_ranges: Vec<(f64, f64)>,
     unconverged_steps: usize,
     collision_steps: usize,
@@ -204,6 +205,11 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
             gap_ranges: gaps_prev
                 .iter()
                 .map(|&g| magnet_gaps(g, h0).map(|h| (h, h)))
+                .collect(),
+            coil_ranges: magnets
+                .coils()
+                .iter()
+                .map(|c| c.each_ref().map(CoilRange::of))
                 .collect(),
             contact_ranges: contact_p.iter().map(|&p| (p, p)).collect(),
             unconverged_steps: 0,
@@ -421,6 +427,11 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
                 collision |= h <= 0.0;
             }
         }
+        for (r, c) in tally.coil_ranges.iter_mut().zip(self.magnets.coils()) {
+            for (r, c) in r.iter_mut().zip(c) {
+                r.add(c);
+            }
+        }
         for (r, &p) in tally.contact_ranges.iter_mut().zip(&buf.contact_p) {
             *r = (r.0.min(p), r.1.max(p));
         }
@@ -488,6 +499,7 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
             collision_steps: t.collision_steps,
             first_collision_t: t.first_collision_t,
             gap_ranges: t.gap_ranges,
+            coil_ranges: t.coil_ranges,
             contact_loss_steps: t.contact_loss_steps,
             contact_ranges: t.contact_ranges,
             profile,

@@ -34,6 +34,7 @@ fn config(scalar: ScalarKind, law: LawKind) -> Config {
         stuck_ticks: 3,
         ramp_ticks: 4,
         watchdog_ticks: 3,
+        geometry: Geometry::Ems,
     }
 }
 
@@ -56,7 +57,12 @@ fn prefixed(bodies: &[Vec<u8>]) -> Vec<u8> {
 }
 
 fn main() {
-    let gap_loop = LawKind::GapLoop(GapParams { kp: 2.0, kd: 0.02, tf: 0.002, x_ref_max: 0.5 });
+    let gap_loop = LawKind::GapLoop(GapParams {
+        kp: 2.0,
+        kd: 0.02,
+        tf: 0.002,
+        x_ref_max: 0.5,
+    });
     let codes = |c: u16| -> HVec<u16, MAX_SAMPLES> {
         let mut v = HVec::new();
         for k in 0..6 {
@@ -100,6 +106,45 @@ fn main() {
             ],
         ));
     }
+    // The state law (f32) with channel 0's accelerometer: StepAccel, 2 ticks × 1 code.
+    let state = LawKind::State(StateParams {
+        kp: 51_600.0,
+        kd: 1_600.0,
+        ka: 40.0,
+        ki: 4_300.0,
+        kc: 10.0,
+        v_max: 500.0,
+        rate_hz: 10_000.0,
+        observer_hz: 300.0,
+        geometry: Geometry::Ems,
+    });
+    let accel = |z: i16| -> HVec<i16, MAX_SAMPLES> { HVec::from_slice(&[z, z + 1]).unwrap() };
+    seeds.push((
+        "state-f32",
+        vec![
+            body(1, Request::Config(config(ScalarKind::F32, state))),
+            body(
+                2,
+                Request::StepAccel {
+                    step: 1,
+                    codes: codes(32768),
+                    wired: 0b001,
+                    accel: accel(2049),
+                },
+            ),
+            body(3, Request::Commit { step: 1 }),
+            body(
+                4,
+                Request::StepAccel {
+                    step: 2,
+                    codes: codes(32770),
+                    wired: 0b001,
+                    accel: accel(-30000),
+                },
+            ),
+            body(5, Request::Ping),
+        ],
+    ));
     seeds.push(("ping", vec![body(1, Request::Ping)]));
     fs::create_dir_all("corpus/handler").unwrap();
     fs::create_dir_all("corpus/decode").unwrap();
