@@ -27,7 +27,7 @@ pub mod law;
 pub mod params;
 pub mod q28_api;
 
-pub use error::maglev_error;
+pub use error::{maglev_error, maglev_error_field_name, maglev_error_message};
 pub use f32_api::*;
 pub use law::{
     MAGLEV_ALIGN, MAGLEV_LAW_SIZE, MAGLEV_LAW_WORDS, MAGLEV_MEASURED_ACCEL,
