@@ -139,7 +139,8 @@ enum maglev_error
   MAGLEV_ERROR_STATE_OBSERVER = 26,
   // `state.geometry`: `MAGLEV_GEOMETRY_PAPER` or `_EMS`.
   MAGLEV_ERROR_STATE_GEOMETRY = 27,
-  // The gap of a state initialisation (`gap_m`): finite, > 0, at most the type's range.
+  // The gap of a state initialisation (`gap_m`): finite, > 0, at most the law's range
+  // (100·`h0_m`; Q4.28: 3.6·`h0_m`).
   MAGLEV_ERROR_GAP = 28,
   // The parameters are valid, but a run-time coefficient derived from them is not
   // representable in this type to 1e-4 (Q4.28 with many sub-steps or a short `dt_s`).
@@ -244,8 +245,9 @@ typedef struct maglev_state_f32 {
 
 // What a law reads at the end of a step, per unit.
 typedef struct maglev_measurement_f32 {
-  // Gap `h/h0_m` (dimensionless). ≤ 0 is a collision; NaN is refused by the law (state
-  // held, `MAGLEV_STATUS_INVALID_INPUT`).
+  // Gap `h/h0_m` (dimensionless). ≤ 0 is a collision; above 100 it is clamped and flagged
+  // `MAGLEV_STATUS_INVALID_INPUT`; NaN raises `_INVALID_INPUT` (the paper's law and the
+  // gap loop hold their state) or `_OVERFLOW` (the state law).
   float gap_pu;
   // The magnet's absolute vertical acceleration `a/g_n` (g_n = 9.81 m/s², Z up); read if
   // `flags & MAGLEV_MEASURED_ACCEL` (the state law uses it).
@@ -299,8 +301,8 @@ typedef struct maglev_state_q28 {
 
 // What a law reads at the end of a step, per unit.
 typedef struct maglev_measurement_q28 {
-  // Gap `h/h0_m` (dimensionless). ≤ 0 is a collision; a gap beyond the law's range is clamped
-  // and flagged (`MAGLEV_STATUS_INVALID_INPUT`).
+  // Gap `h/h0_m` (dimensionless). ≤ 0 is a collision; above 3.6 it is clamped and flagged
+  // `MAGLEV_STATUS_INVALID_INPUT`.
   int32_t gap_pu;
   // The magnet's absolute vertical acceleration `a/g_n` (g_n = 9.81 m/s², Z up); read if
   // `flags & MAGLEV_MEASURED_ACCEL` (the state law uses it).
@@ -363,7 +365,8 @@ int32_t maglev_law_init_f32(const struct maglev_params *params, struct maglev_la
 
 // Writes into `*out` the law's equilibrium state at gap `gap_m` (m): the coil at the static
 // load `p0_N`, every filter at rest there. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`,
-// `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the type's range).
+// `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the law's range:
+// 100·`h0_m`, Q4.28 3.6·`h0_m`).
 //
 // # Safety
 // `law` NULL or a `maglev_law_f32`; `out` NULL or a writable `maglev_state_f32`.
@@ -414,7 +417,8 @@ int32_t maglev_law_init_q28(const struct maglev_params *params, struct maglev_la
 
 // Writes into `*out` the law's equilibrium state at gap `gap_m` (m): the coil at the static
 // load `p0_N`, every filter at rest there. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`,
-// `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the type's range).
+// `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the law's range:
+// 100·`h0_m`, Q4.28 3.6·`h0_m`).
 //
 // # Safety
 // `law` NULL or a `maglev_law_q28`; `out` NULL or a writable `maglev_state_q28`.

@@ -70,7 +70,8 @@ pub enum maglev_error {
     MAGLEV_ERROR_STATE_OBSERVER = 26,
     /// `state.geometry`: `MAGLEV_GEOMETRY_PAPER` or `_EMS`.
     MAGLEV_ERROR_STATE_GEOMETRY = 27,
-    /// The gap of a state initialisation (`gap_m`): finite, > 0, at most the type's range.
+    /// The gap of a state initialisation (`gap_m`): finite, > 0, at most the law's range
+    /// (100·`h0_m`; Q4.28: 3.6·`h0_m`).
     MAGLEV_ERROR_GAP = 28,
     /// The parameters are valid, but a run-time coefficient derived from them is not
     /// representable in this type to 1e-4 (Q4.28 with many sub-steps or a short `dt_s`).
@@ -198,7 +199,7 @@ impl maglev_error {
             ),
             MAGLEV_ERROR_GAP => (
                 c"gap_m",
-                c"gap_m must be finite, > 0 and within the type's range (Q4.28: < 2 h0_m)",
+                c"gap_m must be finite, > 0 and at most the law's range (100 h0_m; Q4.28: 3.6 h0_m)",
             ),
             MAGLEV_ERROR_UNREPRESENTABLE => (
                 c"(derived coefficient)",

@@ -31,8 +31,9 @@ pub struct maglev_state_f32 {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct maglev_measurement_f32 {
-    /// Gap `h/h0_m` (dimensionless). ≤ 0 is a collision; NaN is refused by the law (state
-    /// held, `MAGLEV_STATUS_INVALID_INPUT`).
+    /// Gap `h/h0_m` (dimensionless). ≤ 0 is a collision; above 100 it is clamped and flagged
+    /// `MAGLEV_STATUS_INVALID_INPUT`; NaN raises `_INVALID_INPUT` (the paper's law and the
+    /// gap loop hold their state) or `_OVERFLOW` (the state law).
     pub gap_pu: f32,
     /// The magnet's absolute vertical acceleration `a/g_n` (g_n = 9.81 m/s², Z up); read if
     /// `flags & MAGLEV_MEASURED_ACCEL` (the state law uses it).
@@ -94,7 +95,8 @@ pub unsafe extern "C" fn maglev_law_init_f32(
 
 /// Writes into `*out` the law's equilibrium state at gap `gap_m` (m): the coil at the static
 /// load `p0_N`, every filter at rest there. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`,
-/// `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the type's range).
+/// `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the law's range:
+/// 100·`h0_m`, Q4.28 3.6·`h0_m`).
 ///
 /// # Safety
 /// `law` NULL or a `maglev_law_f32`; `out` NULL or a writable `maglev_state_f32`.

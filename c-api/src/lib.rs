@@ -14,7 +14,7 @@
 //! panics (its events are status bits). The crate is `no_std`; on hosted targets it links
 //! `std` only for the panic runtime a staticlib needs, and a panic inside an `extern "C"`
 //! function aborts rather than unwinding into C. On bare metal (`target_os = "none"`) the
-//! `panic-handler` feature supplies a handler that parks the core; `tests/no_panic.rs`
+//! `panic-handler` feature supplies a handler that parks the core; `tests/api.rs`
 //! drives every function with hostile inputs.
 #![no_std]
 

@@ -32,8 +32,8 @@ pub struct maglev_state_q28 {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct maglev_measurement_q28 {
-    /// Gap `h/h0_m` (dimensionless). ≤ 0 is a collision; a gap beyond the law's range is clamped
-    /// and flagged (`MAGLEV_STATUS_INVALID_INPUT`).
+    /// Gap `h/h0_m` (dimensionless). ≤ 0 is a collision; above 3.6 it is clamped and flagged
+    /// `MAGLEV_STATUS_INVALID_INPUT`.
     pub gap_pu: i32,
     /// The magnet's absolute vertical acceleration `a/g_n` (g_n = 9.81 m/s², Z up); read if
     /// `flags & MAGLEV_MEASURED_ACCEL` (the state law uses it).
@@ -96,7 +96,8 @@ pub unsafe extern "C" fn maglev_law_init_q28(
 
 /// Writes into `*out` the law's equilibrium state at gap `gap_m` (m): the coil at the static
 /// load `p0_N`, every filter at rest there. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`,
-/// `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the type's range).
+/// `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the law's range:
+/// 100·`h0_m`, Q4.28 3.6·`h0_m`).
 ///
 /// # Safety
 /// `law` NULL or a `maglev_law_q28`; `out` NULL or a writable `maglev_state_q28`.
