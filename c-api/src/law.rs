@@ -37,8 +37,8 @@ pub const MAGLEV_MEASURED_ACCEL: u32 = 1;
 pub const MAGLEV_MEASURED_CURRENT: u32 = 2;
 
 /// Tags written before the law by a successful init: a law of the other variant, or bytes no
-/// init wrote, are refused.
-/// The low bit is set for the paper's law alone (the update's fast dispatch reads one word).
+/// init wrote, are refused. The low bit ([`TAG_PAPER`]) is set for the paper's law alone, so
+/// the update's dispatch reads one word.
 const TAG_F32: u32 = 0x6d67_0f30;
 const TAG_Q28: u32 = 0x6d67_0428;
 const TAG_PAPER: u32 = 1;
@@ -141,8 +141,8 @@ pub unsafe fn init<S: CScalar>(params: *const maglev_params, out: *mut u64) -> m
             return e;
         }
     };
-    // SAFETY: the storage is large and aligned enough (const assertions above).
     let tag = S::TAG | if law.is_paper() { TAG_PAPER } else { 0 };
+    // SAFETY: the storage is large and aligned enough (const assertions above).
     unsafe { out.cast::<Stored<S>>().write(Stored { tag, law }) };
     MAGLEV_OK
 }
@@ -216,28 +216,23 @@ pub unsafe fn update<S: CScalar>(
     m: impl FnOnce() -> Measurement<S>,
     gap: S::Raw,
 ) -> Option<Output<S>> {
-    // SAFETY: caller's contract; any bytes are a valid LawState of scalars; after a
-    // matching tag the storage holds the law init wrote.
+    // SAFETY: caller's contract; any bytes are a valid LawState of scalars; the law is
+    // referenced only after its tag matched, i.e. init wrote it.
     unsafe {
         let tag = law.cast::<u32>().read();
         let st = &mut *state.cast::<LawState<S>>();
-        let stored = &*law.cast::<Stored<S>>();
         if tag == S::TAG | TAG_PAPER {
-            Some(
-                stored
-                    .law
-                    .levitation()
-                    .update(&mut st.inner, S::from_raw(gap)),
-            )
+            let law = &(*law.cast::<Stored<S>>()).law;
+            Some(law.levitation().update(&mut st.inner, S::from_raw(gap)))
         } else if tag == S::TAG {
-            Some(other_law(&stored.law, st, m()))
+            Some(other_law(&(*law.cast::<Stored<S>>()).law, st, m()))
         } else {
             None
         }
     }
 }
 
-/// [`Law::update`] out of line, so that the paper's path keeps a leaf's small frame.
+/// [`Law::update`] out of line (and cold), so that the paper's path does not carry its frame.
 #[cold]
 #[inline(never)]
 fn other_law<S: CScalar>(law: &Law<S>, st: &mut LawState<S>, m: Measurement<S>) -> Output<S> {
