@@ -9,7 +9,9 @@
 
 use core::fmt::Write;
 use maglev_core::scalar::I4F28;
-use maglev_firmware_sim::board::selftest::{call_cost, op_costs, report, run, Config, Measure};
+use maglev_firmware_sim::board::selftest::{
+    call_cost, law_type_cost, op_costs, report, run, Config, Measure,
+};
 use maglev_firmware_sim::board::{car_tick, lower_bound, state_law};
 use maglev_firmware_sim::protocol::LawKind;
 
@@ -29,6 +31,8 @@ fn selftest<W: Write, M: Measure>(w: &mut W, m: &M) -> core::fmt::Result {
         report::<f32, _>(w, cfg, counts[i], BUDGET_F32)?;
         report::<I4F28, _>(w, cfg, counts[2 + i], BUDGET_FIXED)?;
     }
+    law_type_cost::<f32, _, _>(w, m, Config::Paper)?;
+    law_type_cost::<I4F28, _, _>(w, m, Config::Paper)?;
     call_cost::<f32, _, _>(w, m)?;
     call_cost::<I4F28, _, _>(w, m)?;
     op_costs::<f32, _, _>(w, m)?;

@@ -11,7 +11,10 @@
 //! boards, nothing on the host).
 use core::fmt::{self, Write};
 use maglev_core::scalar::I4F28;
-use maglev_core::{Interpolation, Levitation, Output, Params, Scalar, State};
+use maglev_core::{
+    Interpolation, Law, LawKind, LawParams, LawState, Levitation, Measurement, Output, Params,
+    Scalar, State,
+};
 
 /// Outer time step (s).
 pub const DT: f64 = 1e-3;
@@ -104,6 +107,13 @@ impl Measure for NoCount {
 #[inline(never)]
 pub fn update_once<S: Scalar>(c: &Levitation<S>, st: &mut State<S>, h: S) -> Output<S> {
     c.update(st, h)
+}
+
+/// One update of the law type (`maglev_core::Law`, the path the firmware and the C API take)
+/// as a real call, as [`update_once`].
+#[inline(never)]
+pub fn law_update_once<S: Scalar>(l: &Law<S>, st: &mut LawState<S>, h: S) -> Output<S> {
+    l.update(st, Measurement::gap(h))
 }
 
 /// A function with [`update_once`]'s signature that returns at once: measured in the same
@@ -261,4 +271,50 @@ pub fn op_costs<S: Bits, W: Write, M: Measure>(w: &mut W, m: &M) -> fmt::Result 
         }
     }
     writeln!(w)
+}
+
+/// Prints the instructions of the trace's updates through the law type ([`law_update_once`],
+/// the paper's law of configuration `cfg`): the Rust path the C API's count is held against
+/// (`scripts/c-firmware.sh`, docs/c-api.md). Fails if a step's bits differ from [`run`]'s
+/// controller's.
+pub fn law_type_cost<S: Bits, W: Write, M: Measure>(w: &mut W, m: &M, cfg: Config) -> fmt::Result {
+    let (name, tag) = (S::NAME, cfg.tag());
+    let magnet = cfg.params();
+    let lp = LawParams {
+        magnet,
+        kind: LawKind::Paper,
+    };
+    let (Ok(law), Ok(ctrl)) = (lp.compile::<S>(), magnet.compile::<S>()) else {
+        return writeln!(w, "insns {name}/{tag} law-type update: not compiled");
+    };
+    let mut st = law.equilibrium_state(magnet.h0);
+    let mut reference = ctrl.initial_state(magnet.h0);
+    let mut counts: Option<Counts> = None;
+    for k in 1..=STEPS {
+        let h = S::from_f64(gap(k), &mut false);
+        let mut out = Output::default();
+        let n = m.count(&mut || out = law_update_once(&law, &mut st, h));
+        if out != ctrl.update(&mut reference, h) || st.inner != reference {
+            return Err(fmt::Error); // the law type no longer gives the controller's bits
+        }
+        if let Some(n) = n {
+            let c = counts.get_or_insert(Counts {
+                nominal_min: u32::MAX,
+                ..Counts::default()
+            });
+            if out.status.is_empty() {
+                c.nominal_min = c.nominal_min.min(n);
+                c.nominal_max = c.nominal_max.max(n);
+            }
+            c.max = c.max.max(n);
+        }
+    }
+    match counts {
+        Some(c) => writeln!(
+            w,
+            "insns {name}/{tag} law-type update (maglev_core::Law): nominal {}..{}, max {}",
+            c.nominal_min, c.nominal_max, c.max
+        ),
+        None => writeln!(w, "insns {name}/{tag} law-type update: not measured"),
+    }
 }

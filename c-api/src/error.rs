@@ -1,0 +1,285 @@
+//! Error codes: every fallible function returns an `int32_t`, 0 for success, otherwise the
+//! [`maglev_error`] that names the argument or parameter field at fault.
+//!
+//! The core names a bad parameter by a string ([`ParamError`]); [`from_param_error`] maps each
+//! of those names to the field of [`crate::maglev_params`] it comes from, so a C caller gets a
+//! number it can switch on and [`maglev_error_field_name`] / [`maglev_error_message`] turn it
+//! back into text.
+
+use core::ffi::c_char;
+use maglev_core::ParamError;
+
+/// Result of a C API call: 0 is success, any other value names what was refused.
+#[allow(non_camel_case_types)]
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum maglev_error {
+    /// Success.
+    MAGLEV_OK = 0,
+    /// A pointer argument is NULL.
+    MAGLEV_ERROR_NULL = 1,
+    /// `i0_A`: finite, > 0.
+    MAGLEV_ERROR_I0 = 2,
+    /// `h0_m`: finite, > 0.
+    MAGLEV_ERROR_H0 = 3,
+    /// `r0_ohm`: finite, > 0.
+    MAGLEV_ERROR_R0 = 4,
+    /// `kp_V_m_per_A`: finite, ≥ 0.
+    MAGLEV_ERROR_KP = 5,
+    /// `ki_V_m_per_A_s`: finite, ≥ 0.
+    MAGLEV_ERROR_KI = 6,
+    /// `p0_N`: finite, > 0.
+    MAGLEV_ERROR_P0 = 7,
+    /// `alpha`: in [0, 1].
+    MAGLEV_ERROR_ALPHA = 8,
+    /// `dt_s`: finite, > 0.
+    MAGLEV_ERROR_DT = 9,
+    /// `n_sub`: ≥ 1.
+    MAGLEV_ERROR_N_SUB = 10,
+    /// `interpolation`: `MAGLEV_INTERPOLATION_LINEAR` or `_PARABOLIC`.
+    MAGLEV_ERROR_INTERPOLATION = 11,
+    /// `v_max_V`: > 0 (`INFINITY` for no bound), not NaN.
+    MAGLEV_ERROR_V_MAX = 12,
+    /// `scheme`: `MAGLEV_SCHEME_PAPER` or `_ACCURATE`.
+    MAGLEV_ERROR_SCHEME = 13,
+    /// `law`: `MAGLEV_LAW_PAPER`, `_GAP_LOOP` or `_STATE`.
+    MAGLEV_ERROR_LAW = 14,
+    /// `gap_loop.kp`: finite.
+    MAGLEV_ERROR_GAP_KP = 15,
+    /// `gap_loop.kd_s`: finite.
+    MAGLEV_ERROR_GAP_KD = 16,
+    /// `gap_loop.tf_s`: finite, ≥ 0.
+    MAGLEV_ERROR_GAP_TF = 17,
+    /// `gap_loop.x_ref_max`: finite, > 0.
+    MAGLEV_ERROR_GAP_X_REF_MAX = 18,
+    /// `state.kp_V_per_m`: finite, ≥ 0.
+    MAGLEV_ERROR_STATE_KP = 19,
+    /// `state.kd_V_s_per_m`: finite, ≥ 0.
+    MAGLEV_ERROR_STATE_KD = 20,
+    /// `state.ka_V_s2_per_m`: finite, ≥ 0.
+    MAGLEV_ERROR_STATE_KA = 21,
+    /// `state.ki_V_per_m_s`: finite, ≥ 0.
+    MAGLEV_ERROR_STATE_KI = 22,
+    /// `state.kc_V_per_A`: finite, ≥ 0.
+    MAGLEV_ERROR_STATE_KC = 23,
+    /// `state.vmax_V`: finite, > `r0_ohm·i0_A`.
+    MAGLEV_ERROR_STATE_V_MAX = 24,
+    /// `state.rate_Hz`: finite, > 0 and at least 2π·`state.observer_Hz`.
+    MAGLEV_ERROR_STATE_RATE = 25,
+    /// `state.observer_Hz`: finite, > 0.
+    MAGLEV_ERROR_STATE_OBSERVER = 26,
+    /// `state.geometry`: `MAGLEV_GEOMETRY_PAPER` or `_EMS`.
+    MAGLEV_ERROR_STATE_GEOMETRY = 27,
+    /// The gap of a state initialisation (`gap_m`): finite, > 0, at most the law's range
+    /// (100·`h0_m`; Q4.28: 3.6·`h0_m`).
+    MAGLEV_ERROR_GAP = 28,
+    /// The parameters are valid, but a run-time coefficient derived from them is not
+    /// representable in this type to 1e-4 (Q4.28 with many sub-steps or a short `dt_s`).
+    MAGLEV_ERROR_UNREPRESENTABLE = 29,
+    /// A number converted to Q4.28 was NaN or outside ±8 (the result saturated).
+    MAGLEV_ERROR_RANGE = 30,
+    /// The law storage was not written by a successful `maglev_law_init_*`.
+    MAGLEV_ERROR_NOT_INITIALIZED = 31,
+    /// A parameter the core refused under a name this API does not know (a newer core).
+    MAGLEV_ERROR_OTHER = 32,
+}
+
+use maglev_error::*;
+
+/// Every code, in order of value.
+const ALL: [maglev_error; 33] = [
+    MAGLEV_OK,
+    MAGLEV_ERROR_NULL,
+    MAGLEV_ERROR_I0,
+    MAGLEV_ERROR_H0,
+    MAGLEV_ERROR_R0,
+    MAGLEV_ERROR_KP,
+    MAGLEV_ERROR_KI,
+    MAGLEV_ERROR_P0,
+    MAGLEV_ERROR_ALPHA,
+    MAGLEV_ERROR_DT,
+    MAGLEV_ERROR_N_SUB,
+    MAGLEV_ERROR_INTERPOLATION,
+    MAGLEV_ERROR_V_MAX,
+    MAGLEV_ERROR_SCHEME,
+    MAGLEV_ERROR_LAW,
+    MAGLEV_ERROR_GAP_KP,
+    MAGLEV_ERROR_GAP_KD,
+    MAGLEV_ERROR_GAP_TF,
+    MAGLEV_ERROR_GAP_X_REF_MAX,
+    MAGLEV_ERROR_STATE_KP,
+    MAGLEV_ERROR_STATE_KD,
+    MAGLEV_ERROR_STATE_KA,
+    MAGLEV_ERROR_STATE_KI,
+    MAGLEV_ERROR_STATE_KC,
+    MAGLEV_ERROR_STATE_V_MAX,
+    MAGLEV_ERROR_STATE_RATE,
+    MAGLEV_ERROR_STATE_OBSERVER,
+    MAGLEV_ERROR_STATE_GEOMETRY,
+    MAGLEV_ERROR_GAP,
+    MAGLEV_ERROR_UNREPRESENTABLE,
+    MAGLEV_ERROR_RANGE,
+    MAGLEV_ERROR_NOT_INITIALIZED,
+    MAGLEV_ERROR_OTHER,
+];
+
+impl maglev_error {
+    /// The field (or argument) at fault, and what it must be.
+    pub const fn texts(self) -> (&'static core::ffi::CStr, &'static core::ffi::CStr) {
+        match self {
+            MAGLEV_OK => (c"none", c"ok"),
+            MAGLEV_ERROR_NULL => (c"(pointer argument)", c"a pointer argument is NULL"),
+            MAGLEV_ERROR_I0 => (c"i0_A", c"i0_A must be finite and > 0"),
+            MAGLEV_ERROR_H0 => (c"h0_m", c"h0_m must be finite and > 0"),
+            MAGLEV_ERROR_R0 => (c"r0_ohm", c"r0_ohm must be finite and > 0"),
+            MAGLEV_ERROR_KP => (c"kp_V_m_per_A", c"kp_V_m_per_A must be finite and >= 0"),
+            MAGLEV_ERROR_KI => (c"ki_V_m_per_A_s", c"ki_V_m_per_A_s must be finite and >= 0"),
+            MAGLEV_ERROR_P0 => (c"p0_N", c"p0_N must be finite and > 0"),
+            MAGLEV_ERROR_ALPHA => (c"alpha", c"alpha must lie in [0, 1]"),
+            MAGLEV_ERROR_DT => (c"dt_s", c"dt_s must be finite and > 0"),
+            MAGLEV_ERROR_N_SUB => (c"n_sub", c"n_sub must be >= 1"),
+            MAGLEV_ERROR_INTERPOLATION => (
+                c"interpolation",
+                c"interpolation must be MAGLEV_INTERPOLATION_LINEAR (0) or _PARABOLIC (1)",
+            ),
+            MAGLEV_ERROR_V_MAX => (
+                c"v_max_V",
+                c"v_max_V must be > 0 (INFINITY: no bound) and not NaN",
+            ),
+            MAGLEV_ERROR_SCHEME => (
+                c"scheme",
+                c"scheme must be MAGLEV_SCHEME_PAPER (0) or _ACCURATE (1)",
+            ),
+            MAGLEV_ERROR_LAW => (
+                c"law",
+                c"law must be MAGLEV_LAW_PAPER (0), _GAP_LOOP (1) or _STATE (2)",
+            ),
+            MAGLEV_ERROR_GAP_KP => (c"gap_loop.kp", c"gap_loop.kp must be finite"),
+            MAGLEV_ERROR_GAP_KD => (c"gap_loop.kd_s", c"gap_loop.kd_s must be finite"),
+            MAGLEV_ERROR_GAP_TF => (c"gap_loop.tf_s", c"gap_loop.tf_s must be finite and >= 0"),
+            MAGLEV_ERROR_GAP_X_REF_MAX => (
+                c"gap_loop.x_ref_max",
+                c"gap_loop.x_ref_max must be finite and > 0",
+            ),
+            MAGLEV_ERROR_STATE_KP => (
+                c"state.kp_V_per_m",
+                c"state.kp_V_per_m must be finite and >= 0",
+            ),
+            MAGLEV_ERROR_STATE_KD => (
+                c"state.kd_V_s_per_m",
+                c"state.kd_V_s_per_m must be finite and >= 0",
+            ),
+            MAGLEV_ERROR_STATE_KA => (
+                c"state.ka_V_s2_per_m",
+                c"state.ka_V_s2_per_m must be finite and >= 0",
+            ),
+            MAGLEV_ERROR_STATE_KI => (
+                c"state.ki_V_per_m_s",
+                c"state.ki_V_per_m_s must be finite and >= 0",
+            ),
+            MAGLEV_ERROR_STATE_KC => (
+                c"state.kc_V_per_A",
+                c"state.kc_V_per_A must be finite and >= 0",
+            ),
+            MAGLEV_ERROR_STATE_V_MAX => (
+                c"state.vmax_V",
+                c"state.vmax_V must be finite and > r0_ohm * i0_A",
+            ),
+            MAGLEV_ERROR_STATE_RATE => (
+                c"state.rate_Hz",
+                c"state.rate_Hz must be finite, > 0 and >= 2*pi*state.observer_Hz",
+            ),
+            MAGLEV_ERROR_STATE_OBSERVER => (
+                c"state.observer_Hz",
+                c"state.observer_Hz must be finite and > 0",
+            ),
+            MAGLEV_ERROR_STATE_GEOMETRY => (
+                c"state.geometry",
+                c"state.geometry must be MAGLEV_GEOMETRY_PAPER (0) or _EMS (1)",
+            ),
+            MAGLEV_ERROR_GAP => (
+                c"gap_m",
+                c"gap_m must be finite, > 0 and at most the law's range (100 h0_m; Q4.28: 3.6 h0_m)",
+            ),
+            MAGLEV_ERROR_UNREPRESENTABLE => (
+                c"(derived coefficient)",
+                c"a run-time coefficient is not representable in this type to 1e-4: use fewer sub-steps, a longer dt_s or f32",
+            ),
+            MAGLEV_ERROR_RANGE => (
+                c"(value)",
+                c"the value is NaN or outside the Q4.28 range [-8, 8) and saturated",
+            ),
+            MAGLEV_ERROR_NOT_INITIALIZED => (
+                c"(law)",
+                c"the law was not written by a successful maglev_law_init_*",
+            ),
+            MAGLEV_ERROR_OTHER => (
+                c"(parameter)",
+                c"the core refused a parameter this API does not name",
+            ),
+        }
+    }
+
+    /// The code of an `int32_t` a caller passes back (`None`: no such code).
+    pub fn from_code(code: i32) -> Option<maglev_error> {
+        usize::try_from(code).ok().and_then(|i| ALL.get(i).copied())
+    }
+}
+
+/// The field of [`crate::maglev_params`] (or the gap argument) a core error names.
+pub fn from_param_error(e: &ParamError) -> maglev_error {
+    let name = match e {
+        ParamError::NotFinite(n) | ParamError::NotPositive(n) | ParamError::Negative(n) => *n,
+        ParamError::AlphaOutOfRange => return MAGLEV_ERROR_ALPHA,
+        ParamError::Unrepresentable { name: "h", .. } => return MAGLEV_ERROR_GAP,
+        ParamError::Unrepresentable { .. } => return MAGLEV_ERROR_UNREPRESENTABLE,
+    };
+    match name {
+        "i0" => MAGLEV_ERROR_I0,
+        "h0" => MAGLEV_ERROR_H0,
+        "r0" => MAGLEV_ERROR_R0,
+        "kp" => MAGLEV_ERROR_KP,
+        "ki" => MAGLEV_ERROR_KI,
+        "p0" => MAGLEV_ERROR_P0,
+        "alpha" => MAGLEV_ERROR_ALPHA,
+        "dt" => MAGLEV_ERROR_DT,
+        "n_sub" => MAGLEV_ERROR_N_SUB,
+        "v_max" => MAGLEV_ERROR_V_MAX,
+        "gap kp" => MAGLEV_ERROR_GAP_KP,
+        "gap kd" => MAGLEV_ERROR_GAP_KD,
+        "gap tf" => MAGLEV_ERROR_GAP_TF,
+        "gap x_ref_max" => MAGLEV_ERROR_GAP_X_REF_MAX,
+        "state kp" => MAGLEV_ERROR_STATE_KP,
+        "state kd" => MAGLEV_ERROR_STATE_KD,
+        "state ka" => MAGLEV_ERROR_STATE_KA,
+        "state ki" => MAGLEV_ERROR_STATE_KI,
+        "state kc" => MAGLEV_ERROR_STATE_KC,
+        "state v_max" | "state v_max − R0·i0" => MAGLEV_ERROR_STATE_V_MAX,
+        "state rate_hz" | "state rate_hz (at least 2π·observer_hz)" => MAGLEV_ERROR_STATE_RATE,
+        "state observer_hz" => MAGLEV_ERROR_STATE_OBSERVER,
+        "h" => MAGLEV_ERROR_GAP,
+        _ => MAGLEV_ERROR_OTHER,
+    }
+}
+
+/// The name of the field (or argument) an error code names, as the C structs spell it
+/// (`"i0_A"`, `"gap_loop.tf_s"`, `"state.rate_Hz"`); `"none"` for `MAGLEV_OK`, `"unknown"` for
+/// a value that is no code. A static NUL-terminated string; never NULL.
+#[no_mangle]
+pub extern "C" fn maglev_error_field_name(code: i32) -> *const c_char {
+    match maglev_error::from_code(code) {
+        Some(e) => e.texts().0.as_ptr(),
+        None => c"unknown".as_ptr(),
+    }
+}
+
+/// One line saying what the field an error code names must be
+/// (`"h0_m must be finite and > 0"`); `"unknown error code"` for a value that is no code.
+/// A static NUL-terminated string; never NULL.
+#[no_mangle]
+pub extern "C" fn maglev_error_message(code: i32) -> *const c_char {
+    match maglev_error::from_code(code) {
+        Some(e) => e.texts().1.as_ptr(),
+        None => c"unknown error code".as_ptr(),
+    }
+}
