@@ -9,6 +9,7 @@ pub mod cli;
 pub mod control;
 pub mod error;
 pub mod fe;
+pub mod ground;
 pub mod guideway;
 pub mod hil;
 pub mod input;
