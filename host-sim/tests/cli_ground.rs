@@ -1,7 +1,8 @@
 //! `maglev ground green` through the built binary: the JSON shape, the library's value, and
 //! one-line errors with exit status 2.
 
-use maglev_host_sim::ground::green::{Green, HalfSpace};
+use maglev_host_sim::fe::soil::Soil;
+use maglev_host_sim::ground::green::{displacement_per_newton, Green};
 use std::process::Command;
 
 fn maglev(args: &[&str]) -> std::process::Output {
@@ -24,13 +25,13 @@ fn green_prints_the_displacement_per_newton() {
     );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let w = v["w_per_N"].as_array().unwrap();
-    let soil = HalfSpace {
+    let soil = Soil {
         shear_wave_velocity: 250.0,
         poisson: 0.33,
         density: 1900.0,
         damping: 0.03,
     };
-    let lib = soil.displacement_per_newton(&Green::new(0.33, 0.03).unwrap(), 10.0, 25.0);
+    let lib = displacement_per_newton(&soil, &Green::new(0.33, 0.03).unwrap(), 10.0, 25.0);
     assert_eq!(w[0].as_f64().unwrap(), lib.re);
     assert_eq!(w[1].as_f64().unwrap(), lib.im);
     // At 0 Hz: Boussinesq, P(1 − ν)/(2πμ*r).

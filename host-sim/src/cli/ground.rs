@@ -4,7 +4,8 @@
 //! load down, displacement positive down, time factor e^{+iωt}.
 
 use crate::case::MAX_MAGNITUDE;
-use crate::ground::green::{Green, HalfSpace};
+use crate::fe::soil::Soil;
+use crate::ground::green::{displacement_per_newton, Green};
 use crate::Error;
 
 #[derive(clap::Args, Debug)]
@@ -64,7 +65,7 @@ fn checked(key: &str, v: f64, zero_ok: bool) -> crate::Result<f64> {
 
 /// The displacement per newton for the arguments (checked).
 pub fn green(a: &GreenArgs) -> crate::Result<[f64; 2]> {
-    let soil = HalfSpace {
+    let soil = Soil {
         shear_wave_velocity: checked("--vs", a.vs, false)?,
         poisson: a.nu,
         density: checked("--rho", a.rho, false)?,
@@ -78,7 +79,7 @@ pub fn green(a: &GreenArgs) -> crate::Result<[f64; 2]> {
         }
         e => e,
     })?;
-    let w = soil.displacement_per_newton(&g, f, r);
+    let w = displacement_per_newton(&soil, &g, f, r);
     if !(w.re.is_finite() && w.im.is_finite()) {
         return Err(Error::numerical(format!(
             "the Green's function is not finite at f = {f} Hz, r = {r} m"

@@ -61,6 +61,7 @@
 //! at x = 200 and an independently written second evaluation of (G1) for x = 0.5 … 100,
 //! ν = 0.25, 1/3, 0.45, ξ = 0.01, 0.05 (docs/ground.md has the measured table).
 
+use crate::fe::soil::Soil;
 use crate::Error;
 use rustfft::num_complex::Complex64 as C;
 
@@ -318,31 +319,15 @@ mod tests {
     }
 }
 
-/// A homogeneous viscoelastic half-space in SI.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HalfSpace {
-    /// Shear-wave speed c_s (m/s, undamped).
-    pub shear_wave_velocity: f64,
-    /// Poisson's ratio ν.
-    pub poisson: f64,
-    /// Density ρ (kg/m³).
-    pub density: f64,
-    /// Hysteretic damping ratio ξ (μ* = μ(1 + 2iξ)).
-    pub damping: f64,
+/// μ* = ρc_s²(1 + 2iξ) of `soil` (Pa).
+pub fn complex_shear_modulus(soil: &Soil) -> C {
+    C::new(1.0, 2.0 * soil.damping) * soil.shear_modulus()
 }
 
-impl HalfSpace {
-    /// μ* = ρc_s²(1 + 2iξ) (Pa).
-    pub fn complex_shear_modulus(&self) -> C {
-        C::new(1.0, 2.0 * self.damping)
-            * (self.density * self.shear_wave_velocity * self.shear_wave_velocity)
-    }
-
-    /// The vertical surface displacement per newton at distance `r` (m) and frequency `f`
-    /// (Hz, ≥ 0) from a vertical point load on the surface (module docs; `green` must be
-    /// this soil's).
-    pub fn displacement_per_newton(&self, green: &Green, f: f64, r: f64) -> C {
-        let x = 2.0 * std::f64::consts::PI * f * r / self.shear_wave_velocity;
-        green.scaled(x) / (2.0 * std::f64::consts::PI * r * self.complex_shear_modulus())
-    }
+/// The vertical surface displacement per newton at distance `r` (m) and frequency `f` (Hz,
+/// ≥ 0) from a vertical point load on the surface of `soil` (module docs; `green` must be
+/// built for this soil's ν and ξ): w = W(x)/(2πμ*r), x = 2πfr/c_s.
+pub fn displacement_per_newton(soil: &Soil, green: &Green, f: f64, r: f64) -> C {
+    let x = 2.0 * std::f64::consts::PI * f * r / soil.shear_wave_velocity;
+    green.scaled(x) / (2.0 * std::f64::consts::PI * r * complex_shear_modulus(soil))
 }
