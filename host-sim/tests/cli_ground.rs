@@ -74,3 +74,85 @@ fn bad_values_are_one_line_errors() {
         );
     }
 }
+
+/// A viaduct run with `[ground]` writes ground.csv into its output: `t` and one column
+/// `ground{N}.vz` per receiver, one row per response.csv row, finite values, and the
+/// receivers' distances from the line ordered by their peak velocity.
+#[test]
+fn a_run_with_receivers_writes_ground_csv() {
+    let dir = std::env::temp_dir().join(format!("maglev-ground-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = maglev(&[
+        "run",
+        "paper-5",
+        "--set",
+        "bridge.spans_m=[30.0, 30.0, 30.0]",
+        "--set",
+        "train=wheel-rail",
+        "--set",
+        "train.cars=1",
+        "--set",
+        "t_end=1.0",
+        "--set",
+        "dt=0.004",
+        "--set",
+        "ground.distances_m=[12.5, 25.0, 50.0]",
+        "--set",
+        "ground.pier=2",
+        "--set",
+        "output.probes=[\"pier2.base.az\"]",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(dir.join("ground.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("t,ground1.vz,ground2.vz,ground3.vz"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+        .collect();
+    let response = std::fs::read_to_string(dir.join("response.csv")).unwrap();
+    assert_eq!(rows.len() + 1, response.lines().count());
+    assert!(rows.iter().flatten().all(|v| v.is_finite()));
+    let peak = |c: usize| rows.iter().fold(0.0_f64, |m, r| m.max(r[c].abs()));
+    assert!(peak(1) > peak(2) && peak(2) > peak(3) && peak(3) > 0.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Receivers inside a footing, or `[ground]` without the soil's damping, are refused with
+/// the key named, exit 2.
+#[test]
+fn bad_receivers_are_refused() {
+    for (sets, key) in [
+        (
+            vec!["ground.distances_m=[3.0]", "ground.pier=2"],
+            "ground.distances_m[0]",
+        ),
+        (
+            vec!["ground.receivers=[[1e300, 0.0]]"],
+            "ground.receivers[0][0]",
+        ),
+        (
+            vec!["ground.distances_m=[20.0]", "ground.pier=99"],
+            "ground.pier",
+        ),
+        (vec!["ground.distances_m=[20.0]"], "ground"),
+    ] {
+        let mut args = vec!["run", "paper-5", "--out", "/nonexistent/never"];
+        for s in &sets {
+            args.push("--set");
+            args.push(s);
+        }
+        let out = maglev(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{sets:?}: {err}");
+        assert!(
+            err.contains(key) && err.trim().lines().count() == 1,
+            "{sets:?}: {err}"
+        );
+    }
+}

@@ -3,7 +3,9 @@
 
 use crate::case::Case;
 use crate::cli::progress::Progress;
+use crate::ground::receivers::{self, BaseForces};
 use crate::output::{gap_ranges, response_recorder, write_run, Columns, Staging, Summary};
+use crate::probes::Tee;
 use crate::setup::{simulate, Controllers};
 use crate::simulation::Outcome;
 use crate::Error;
@@ -80,6 +82,23 @@ pub fn warn(outcome: &Outcome) {
     }
 }
 
+/// The recorder of every pier's base force, when the case has ground receivers.
+pub fn ground_recorder(case: &Case) -> Option<BaseForces> {
+    let v = case.viaduct.as_ref()?;
+    case.ground.as_ref()?;
+    let f = &v.foundation;
+    Some(BaseForces::new(v.spans + 1, f.stiffness[2], f.damping[2]))
+}
+
+/// ground.csv of the case's receivers from the recorded base forces (docs/ground.md).
+pub fn write_ground(out: &Staging, case: &Case, b: &BaseForces) -> crate::Result<()> {
+    let (Some(v), Some(soil), Some(g)) = (&case.viaduct, &case.soil, &case.ground) else {
+        return Ok(());
+    };
+    let vel = receivers::of_run(soil, v.span_length, b, g)?;
+    out.put("ground.csv", &receivers::csv(&b.t, &vel))
+}
+
 /// Runs the command. Once the outputs are written: [`Error::Strict`] when `--strict` and the
 /// run collided or left its gap bounds (exit 3), else [`check_converged`].
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -87,9 +106,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let out = Staging::new(&args.out)?;
     let mut rec = response_recorder(&out, case.probes.clone())?;
     let mut bar = Progress::run("run");
-    let run = simulate(&case, Controllers::Core, &mut rec, |f| bar.fraction(f))?;
+    let mut base = ground_recorder(&case);
+    let run = match &mut base {
+        Some(b) => simulate(&case, Controllers::Core, &mut Tee(&mut rec, b), |f| {
+            bar.fraction(f)
+        })?,
+        None => simulate(&case, Controllers::Core, &mut rec, |f| bar.fraction(f))?,
+    };
     drop(bar);
     rec.finish()?;
+    if let Some(b) = &base {
+        write_ground(&out, &case, b)?;
+    }
     let (outcome, wall) = (run.outcome, run.wall);
     warn(&outcome);
     let columns = Columns::read(&out)?;

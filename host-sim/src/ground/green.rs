@@ -45,11 +45,14 @@
 //!   W(x) = (1 − ν) + x c₂κ² e^{−x} + x ∫₀^∞ R(q) J0(qx) q dq,
 //!   R = G − (1 − ν)/q − c₂κ²/(q² + 1)^{3/2} = O(q⁻⁵).                              (G3)
 //!
-//! **Quadrature.** The remainder of (G3) is integrated over q ∈ [0, Q], Q = 20, by adaptive
+//! **Quadrature.** The remainder of (G3) is integrated over q ∈ [0, Q] by adaptive
 //! Gauss–Kronrod (7/15 points) on panels no wider than half a period of J0(qx) (π/x) and
 //! no wider than 1/4, with breakpoints at the real parts of q_p, q_s and q_R. A panel whose
 //! Kronrod–Gauss difference exceeds 1e-10·(|panel| + 1e-3) is bisected (at most 40 levels).
-//! The tail beyond Q is below |R|·Q⁻¹ · √(2/(πQx))/x ~ 1e-9 for the oscillating kernel.
+//! Q = 20 up to x = 100 and 20·√(100/x) (at least 4) beyond, which keeps the work of one
+//! evaluation growing as √x rather than x: R·q falls as c₄q⁻⁴, so the tail beyond Q
+//! contributes about x·c₄Q⁻⁴·√(2/(πQx))/x = c₄√(2/π)·Q^−4.5·x^−0.5 to W: below 1e-6·c₄ for
+//! Q = 20 at any x, and 2e-6·c₄ at x = 400 (Q = 10).
 //! J0 is [`super::bessel::j0`].
 //!
 //! **Far away.** With damping, every contribution (the pole and both branch points) lies below
@@ -76,8 +79,18 @@ pub const MAX_POISSON: f64 = 0.49;
 /// Beyond x·|Im q_p| = 40 every wave has decayed by e^{−40} (module docs): W = 0.
 const ATTENUATED: f64 = 40.0;
 
-/// Upper limit of the remainder's integration (dimensionless wavenumber).
+/// Upper limit of the remainder's integration (dimensionless wavenumber) up to x = 100.
 const Q_MAX: f64 = 20.0;
+
+/// The upper limit at `x`: [`Q_MAX`] up to x = 100, then Q_MAX·√(100/x), at least 4 (module
+/// docs: the tail's share of W falls as Q^−4.5·x^−0.5).
+fn upper_limit(x: f64) -> f64 {
+    if x <= 100.0 {
+        Q_MAX
+    } else {
+        (Q_MAX * (100.0 / x).sqrt()).max(4.0)
+    }
+}
 
 /// The half-space's dimensionless Green's function W(x) at fixed ν and ξ (module docs).
 #[derive(Clone, Debug)]
@@ -128,6 +141,11 @@ impl Green {
     /// Poisson's ratio.
     pub fn poisson(&self) -> f64 {
         self.nu
+    }
+
+    /// The x beyond which [`Green::scaled`] is 0 (every wave decayed by e^{−40}).
+    pub fn negligible_beyond(&self) -> f64 {
+        ATTENUATED / -(self.gamma2.sqrt() * self.kappa2.sqrt()).im
     }
 
     /// The Rayleigh pole q_R = k_R/k₀ (complex; c_R = c_s/Re q_R to first order in ξ).
@@ -195,6 +213,7 @@ impl Green {
     /// ∫₀^Q R(q) J0(qx) q dq by adaptive Gauss–Kronrod on the panels of the module docs.
     fn remainder_integral(&self, x: f64) -> C {
         let width = (std::f64::consts::PI / x).min(0.25);
+        let q_max = upper_limit(x);
         let mut breaks: Vec<f64> = vec![
             (self.gamma2.sqrt() * self.kappa2.sqrt()).re,
             self.kappa2.sqrt().re,
@@ -204,8 +223,8 @@ impl Green {
         let mut edges = vec![0.0];
         let mut at = 0.0;
         let mut next = breaks.iter().copied().peekable();
-        while at < Q_MAX {
-            let mut to = (at + width).min(Q_MAX);
+        while at < q_max {
+            let mut to = (at + width).min(q_max);
             while let Some(&b) = next.peek() {
                 if b <= at {
                     next.next();

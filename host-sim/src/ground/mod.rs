@@ -7,6 +7,8 @@
 //! pier's vertical base force gives them at a tiny fraction of that cost.
 //!
 //! - [`green`]: the half-space Green's function (wavenumber integral, its numerics);
-//! - [`bessel`]: J0 for it.
+//! - [`bessel`]: J0 for it;
+//! - [`receivers`]: the pier-base forces of a run to the receivers' velocities (ground.csv).
 pub mod bessel;
 pub mod green;
+pub mod receivers;
