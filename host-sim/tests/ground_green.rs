@@ -199,20 +199,30 @@ fn far_field_is_the_rayleigh_wave() {
     }
 }
 
-/// Agreement with the second evaluation within 0.5 % for k_s·r = 0.5 … 100.
+/// Agreement with the second evaluation within 0.5 % for k_s·r = 0.5 … 100. At 200 and 400,
+/// where the code under test shortens its wavenumber range (Q = 14 and 10), within 0.5 % or
+/// 1e-6 absolute (W's static value is 1 − ν ≈ 0.7; with ξ = 0.05 at x = 400 every wave has
+/// decayed by about e^−20 and W is ~4e-7, where both evaluations reach their floor).
 #[test]
 fn agrees_with_an_independent_wavenumber_integral() {
     let mut worst: f64 = 0.0;
     for nu in NUS {
         for xi in XIS {
             let g = Green::new(nu, xi).unwrap();
-            for x in [0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0] {
+            for x in [0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 400.0] {
                 let a = g.scaled(x);
                 let b = w_simpson(nu, xi, x);
                 let rel = (a - b).norm() / b.norm();
                 println!("ν {nu:.3} ξ {xi} x {x}: {a:.6} against {b:.6}: rel {rel:.2e}");
+                let floor = if x > 100.0 { 1e-6 } else { 0.0 };
+                assert!(
+                    (a - b).norm() < 5e-3 * b.norm() + floor,
+                    "ν {nu} ξ {xi} x {x}: {a} against {b}"
+                );
+                if x > 100.0 {
+                    continue;
+                }
                 worst = worst.max(rel);
-                assert!(rel < 5e-3, "ν {nu} ξ {xi} x {x}: {a} against {b}");
             }
         }
     }

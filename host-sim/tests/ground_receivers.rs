@@ -89,7 +89,7 @@ fn envelope(v: &[f64]) -> Vec<f64> {
     let mut s: Vec<C> = v.iter().map(|&x| C::new(x, 0.0)).collect();
     planner.plan_fft_forward(n).process(&mut s);
     for (k, x) in s.iter_mut().enumerate() {
-        if k == 0 || (n % 2 == 0 && k == n / 2) {
+        if k == 0 || (n.is_multiple_of(2) && k == n / 2) {
             continue;
         }
         *x *= if k < n.div_ceil(2) { 2.0 } else { 0.0 };

@@ -95,7 +95,14 @@ pub fn write_ground(out: &Staging, case: &Case, b: &BaseForces) -> crate::Result
     let (Some(v), Some(soil), Some(g)) = (&case.viaduct, &case.soil, &case.ground) else {
         return Ok(());
     };
+    let start = std::time::Instant::now();
     let vel = receivers::of_run(soil, v.span_length, b, g)?;
+    eprintln!(
+        "maglev: ground: {} receiver(s) from {} piers in {:.2} s wall",
+        g.len(),
+        b.forces.len(),
+        start.elapsed().as_secs_f64()
+    );
     out.put("ground.csv", &receivers::csv(&b.t, &vel))
 }
 

@@ -57,8 +57,8 @@
 //!
 //! **Far away.** With damping, every contribution (the pole and both branch points) lies below
 //! the real axis, so W decays at least as fast as the slowest wave, the P wave:
-//! |W| ≲ x·e^{x·Im q_p}. Beyond x·|Im q_p| = 40 (e^{−40} = 4e-18) W is returned as 0; this
-//! also bounds the work of one evaluation (at most 20·40/(π·|Im q_p|) panels).
+//! |W| ≲ x·e^{x·Im q_p}. Beyond x·|Im q_p| = 30 (e^{−30} = 9e-14, so |W| < 1e-8 for
+//! x < 1e5) W is returned as 0; this also bounds the work of one evaluation.
 //!
 //! **Accuracy** (host-sim/tests/ground_green.rs): the static limit, the Rayleigh far field
 //! at x = 200 and an independently written second evaluation of (G1) for x = 0.5 … 100,
@@ -76,8 +76,8 @@ pub const MAX_DAMPING: f64 = 0.25;
 /// The largest accepted Poisson's ratio (0.5 is incompressible: c_p infinite).
 pub const MAX_POISSON: f64 = 0.49;
 
-/// Beyond x·|Im q_p| = 40 every wave has decayed by e^{−40} (module docs): W = 0.
-const ATTENUATED: f64 = 40.0;
+/// Beyond x·|Im q_p| = 30 every wave has decayed by e^{−30} (module docs): W = 0.
+const ATTENUATED: f64 = 30.0;
 
 /// Upper limit of the remainder's integration (dimensionless wavenumber) up to x = 100.
 const Q_MAX: f64 = 20.0;
@@ -143,7 +143,7 @@ impl Green {
         self.nu
     }
 
-    /// The x beyond which [`Green::scaled`] is 0 (every wave decayed by e^{−40}).
+    /// The x beyond which [`Green::scaled`] is 0 (every wave decayed by e^{−30}).
     pub fn negligible_beyond(&self) -> f64 {
         ATTENUATED / -(self.gamma2.sqrt() * self.kappa2.sqrt()).im
     }
@@ -300,6 +300,19 @@ fn adaptive(f: &impl Fn(f64) -> C, a: f64, b: f64, depth: u32) -> C {
     adaptive(f, a, m, depth + 1) + adaptive(f, m, b, depth + 1)
 }
 
+/// μ* = ρc_s²(1 + 2iξ) of `soil` (Pa).
+pub fn complex_shear_modulus(soil: &Soil) -> C {
+    C::new(1.0, 2.0 * soil.damping) * soil.shear_modulus()
+}
+
+/// The vertical surface displacement per newton at distance `r` (m) and frequency `f` (Hz,
+/// ≥ 0) from a vertical point load on the surface of `soil` (module docs; `green` must be
+/// built for this soil's ν and ξ): w = W(x)/(2πμ*r), x = 2πfr/c_s.
+pub fn displacement_per_newton(soil: &Soil, green: &Green, f: f64, r: f64) -> C {
+    let x = 2.0 * std::f64::consts::PI * f * r / soil.shear_wave_velocity;
+    green.scaled(x) / (2.0 * std::f64::consts::PI * r * complex_shear_modulus(soil))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -336,17 +349,4 @@ mod tests {
         assert!(Green::new(0.3, 0.0).is_err());
         assert!(Green::new(0.3, 0.3).is_err());
     }
-}
-
-/// μ* = ρc_s²(1 + 2iξ) of `soil` (Pa).
-pub fn complex_shear_modulus(soil: &Soil) -> C {
-    C::new(1.0, 2.0 * soil.damping) * soil.shear_modulus()
-}
-
-/// The vertical surface displacement per newton at distance `r` (m) and frequency `f` (Hz,
-/// ≥ 0) from a vertical point load on the surface of `soil` (module docs; `green` must be
-/// built for this soil's ν and ξ): w = W(x)/(2πμ*r), x = 2πfr/c_s.
-pub fn displacement_per_newton(soil: &Soil, green: &Green, f: f64, r: f64) -> C {
-    let x = 2.0 * std::f64::consts::PI * f * r / soil.shear_wave_velocity;
-    green.scaled(x) / (2.0 * std::f64::consts::PI * r * complex_shear_modulus(soil))
 }

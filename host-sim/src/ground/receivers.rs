@@ -216,7 +216,8 @@ pub fn velocities(
         }
         // Real at 0 Hz and Nyquist (module docs); displacement down → velocity up: minus.
         v[0].im = 0.0;
-        v[bins - 1].im = if m % 2 == 0 { 0.0 } else { v[bins - 1].im };
+        // M is a power of two (≥ 2): the last bin is the Nyquist bin.
+        v[bins - 1].im = 0.0;
         let mut t = vec![0.0; m];
         inv.process(&mut v, &mut t)
             .map_err(|e| Error::numerical(format!("ground inverse FFT: {e}")))?;
