@@ -95,15 +95,32 @@ pub fn write_ground(out: &Staging, case: &Case, b: &BaseForces) -> crate::Result
     let (Some(v), Some(soil), Some(g)) = (&case.viaduct, &case.soil, &case.ground) else {
         return Ok(());
     };
-    let start = std::time::Instant::now();
+    let (start, cpu) = (std::time::Instant::now(), process_cpu_seconds());
     let vel = receivers::of_run(soil, v.span_length, b, g)?;
     eprintln!(
-        "maglev: ground: {} receiver(s) from {} piers in {:.2} s wall",
+        "maglev: ground: {} receiver(s) from {} piers in {:.2} s wall, {:.2} s CPU",
         g.len(),
         b.forces.len(),
-        start.elapsed().as_secs_f64()
+        start.elapsed().as_secs_f64(),
+        process_cpu_seconds() - cpu
     );
     out.put("ground.csv", &receivers::csv(&b.t, &vel))
+}
+
+/// CPU seconds used by the whole process so far (all threads), for the ground step's report
+/// on a shared machine (docs/ground.md, "Cost").
+fn process_cpu_seconds() -> f64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant of the platform.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+    if rc == 0 {
+        ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+    } else {
+        f64::NAN
+    }
 }
 
 /// Runs the command. Once the outputs are written: [`Error::Strict`] when `--strict` and the

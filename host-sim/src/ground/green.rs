@@ -46,7 +46,7 @@
 //!   R = G − (1 − ν)/q − c₂κ²/(q² + 1)^{3/2} = O(q⁻⁵).                              (G3)
 //!
 //! **Quadrature.** The remainder of (G3) is integrated over q ∈ [0, Q] by adaptive
-//! Gauss–Kronrod (7/15 points) on panels no wider than half a period of J0(qx) (π/x) and
+//! Gauss–Kronrod (7/15 points) on panels no wider than one period of J0(qx) (2π/x) and
 //! no wider than 1/4, with breakpoints at the real parts of q_p, q_s and q_R. A panel whose
 //! Kronrod–Gauss difference exceeds 1e-10·(|panel| + 1e-3) is bisected (at most 40 levels).
 //! Q = 20 up to x = 100 and 20·√(100/x) (at least 4) beyond, which keeps the work of one
@@ -212,7 +212,7 @@ impl Green {
 
     /// ∫₀^Q R(q) J0(qx) q dq by adaptive Gauss–Kronrod on the panels of the module docs.
     fn remainder_integral(&self, x: f64) -> C {
-        let width = (std::f64::consts::PI / x).min(0.25);
+        let width = (2.0 * std::f64::consts::PI / x).min(0.25);
         let q_max = upper_limit(x);
         let mut breaks: Vec<f64> = vec![
             (self.gamma2.sqrt() * self.kappa2.sqrt()).re,
