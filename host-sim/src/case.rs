@@ -16,6 +16,7 @@ use crate::error::shown;
 use crate::fe::newmark::Rayleigh;
 use crate::fe::soil::Soil;
 use crate::fe::viaduct::{BearingSpec, FoundationSpec, PierSpec, ViaductSpec};
+use crate::ground::green::{MAX_DAMPING, MIN_DAMPING};
 use crate::guideway::{BeamSection, Bridge};
 use crate::probes::{Extent, Probes};
 use crate::scenario::{self, BridgeKind, BridgeSection, Model, Scenario, VehicleSection};
@@ -129,6 +130,10 @@ pub struct Case {
     pub irregularity_seed: Option<u64>,
     /// What response.csv records.
     pub probes: Probes,
+    /// The half-space under the viaduct (`[soil]`), in SI.
+    pub soil: Option<Soil>,
+    /// Ground receivers `[x, y]` (m) whose vertical velocity the run writes (`[ground]`).
+    pub ground: Option<Vec<[f64; 2]>>,
 }
 
 /// Typed changes to a case (what validate and a sweep vary), applied by [`Case::with`].
@@ -175,7 +180,18 @@ impl Case {
                 "only the FE spans take damping (run.model = \"fe\", bridge.kind = \"spans\")",
             ));
         }
-        let viaduct = viaduct(&sc.bridge, &bridge, r.elements_per_span)?;
+        let soil = sc.soil.as_ref().map(soil).transpose()?;
+        let viaduct = viaduct(&sc.bridge, &bridge, r.elements_per_span, soil.as_ref())?;
+        let ground = match (&sc.ground, &viaduct, &soil) {
+            (None, _, _) => None,
+            (Some(g), Some(v), Some(so)) => Some(ground(g, v, so, &sc.bridge)?),
+            (Some(_), _, _) => {
+                return Err(Error::invalid(
+                    "ground",
+                    "receivers need a viaduct (bridge.kind = \"viaduct\") and its [soil]",
+                ))
+            }
+        };
         if sc.run.model == Model::Fe {
             check_fe_size(&bridge, r.elements_per_span, dt)?;
         }
@@ -249,6 +265,8 @@ impl Case {
             geometry,
             irregularity_seed,
             probes,
+            soil,
+            ground,
             scenario: sc,
         })
     }
@@ -471,6 +489,17 @@ impl Case {
             "irregularity_seed": self.irregularity_seed,
             "probes": self.probes.names,
         });
+        if let Some(so) = &self.soil {
+            record["soil"] = json!({
+                "shear_wave_velocity_m_per_s": so.shear_wave_velocity,
+                "density_kg_per_m3": so.density,
+                "poisson": so.poisson,
+                "damping_ratio": so.damping,
+            });
+        }
+        if let Some(g) = &self.ground {
+            record["ground_receivers_m"] = json!(g);
+        }
         // Only when given, so an undamped case records what it always did.
         if let Some(r) = self.damping {
             record["bridge"]["rayleigh_alpha_per_s"] = json!(r.alpha);
@@ -714,13 +743,17 @@ fn rayleigh(d: &scenario::DampingSection) -> Result<Rayleigh> {
 
 /// The viaduct of `bridge.kind = "viaduct"` in SI: the girders of `girders`, on the
 /// bearings, piers, footings and soil of the sub-tables.
-fn viaduct(b: &BridgeSection, girders: &Bridge, elements: usize) -> Result<Option<ViaductSpec>> {
+fn viaduct(
+    b: &BridgeSection,
+    girders: &Bridge,
+    elements: usize,
+    soil: Option<&Soil>,
+) -> Result<Option<ViaductSpec>> {
     if b.kind == BridgeKind::Spans {
         for (name, given) in [
             ("bearings", b.bearings.is_some()),
             ("pier", b.pier.is_some()),
             ("footing", b.footing.is_some()),
-            ("soil", b.soil.is_some()),
         ] {
             if given {
                 return Err(Error::invalid(
@@ -728,6 +761,12 @@ fn viaduct(b: &BridgeSection, girders: &Bridge, elements: usize) -> Result<Optio
                     "only a viaduct has it (set bridge.kind = \"viaduct\")",
                 ));
             }
+        }
+        if soil.is_some() {
+            return Err(Error::invalid(
+                "soil",
+                "only a viaduct stands on the soil (set bridge.kind = \"viaduct\")",
+            ));
         }
         return Ok(None);
     }
@@ -810,36 +849,10 @@ fn viaduct(b: &BridgeSection, girders: &Bridge, elements: usize) -> Result<Optio
         cap_mass: non_negative("bridge.pier.cap_mass_t", p.cap_mass_t)? * 1e3,
     };
     plausible_section("bridge.pier", &pier.section)?;
-    let so = b.soil.as_ref().ok_or_else(|| need("soil"))?;
-    let soil = Soil {
-        shear_wave_velocity: within(
-            "bridge.soil.shear_wave_velocity_m_per_s",
-            positive(
-                "bridge.soil.shear_wave_velocity_m_per_s",
-                so.shear_wave_velocity_m_per_s,
-            )?,
-            10.0,
-            5000.0,
-            "m/s: peat (about 30) to hard rock (about 3500)",
-        )?,
-        density: within(
-            "bridge.soil.density_t_per_m3",
-            positive("bridge.soil.density_t_per_m3", so.density_t_per_m3)?,
-            0.5,
-            5.0,
-            "t/m³: peat (about 1) to dense rock (about 3)",
-        )? * 1e3,
-        poisson: so.poisson,
-    };
-    if !(0.0..0.5).contains(&soil.poisson) {
-        return Err(Error::invalid(
-            "bridge.soil.poisson",
-            format!("must be in [0, 0.5), got {}", soil.poisson),
-        ));
-    }
+    let soil = soil.ok_or_else(|| Error::invalid("soil", "a viaduct needs this section"))?;
     let f = b.footing.as_ref().ok_or_else(|| need("footing"))?;
     let foundation = FoundationSpec::footing(
-        &soil,
+        soil,
         footing_size("bridge.footing.along_x_m", f.along_x_m)?,
         footing_size("bridge.footing.across_y_m", f.across_y_m)?,
         positive("bridge.footing.thickness_m", f.thickness_m)?,
@@ -869,6 +882,113 @@ fn footing_size(key: &str, v: f64) -> Result<f64> {
         100.0,
         "m: a post's base to a raft",
     )
+}
+
+/// `[soil]` in SI, checked: one soil for the footings and the ground.
+fn soil(s: &scenario::SoilSection) -> Result<Soil> {
+    let poisson = s.poisson;
+    if !(0.0..0.5).contains(&poisson) {
+        return Err(Error::invalid(
+            "soil.poisson",
+            format!("must be in [0, 0.5), got {poisson}"),
+        ));
+    }
+    let damping = match s.damping_ratio {
+        None => 0.0,
+        Some(d) if (MIN_DAMPING..=MAX_DAMPING).contains(&d) => d,
+        Some(d) => {
+            return Err(Error::invalid(
+                "soil.damping_ratio",
+                format!("must be in [{MIN_DAMPING}, {MAX_DAMPING}], got {d}"),
+            ))
+        }
+    };
+    Ok(Soil {
+        shear_wave_velocity: within(
+            "soil.shear_wave_velocity_m_per_s",
+            positive(
+                "soil.shear_wave_velocity_m_per_s",
+                s.shear_wave_velocity_m_per_s,
+            )?,
+            10.0,
+            5000.0,
+            "m/s: peat (about 30) to hard rock (about 3500)",
+        )?,
+        density: within(
+            "soil.density_t_per_m3",
+            positive("soil.density_t_per_m3", s.density_t_per_m3)?,
+            0.5,
+            5.0,
+            "t/m³: peat (about 1) to dense rock (about 3)",
+        )? * 1e3,
+        poisson,
+        damping,
+    })
+}
+
+/// The most ground receivers a case may have.
+pub const MAX_RECEIVERS: usize = 1000;
+
+/// `[ground]`'s receivers as points `[x, y]` (m): given, or at `distances_m` across the line
+/// at pier `pier` (x of the pier). Each must lie outside every footing's circumscribed
+/// circle (the point load stands for the footing: inside it the model says nothing), and the
+/// soil needs its damping ratio (the Green's function needs ξ > 0).
+fn ground(
+    g: &scenario::GroundSection,
+    v: &ViaductSpec,
+    soil: &Soil,
+    b: &BridgeSection,
+) -> Result<Vec<[f64; 2]>> {
+    if soil.damping == 0.0 {
+        return Err(Error::invalid(
+            "soil.damping_ratio",
+            format!("[ground] needs the soil's hysteretic damping ratio, in [{MIN_DAMPING}, {MAX_DAMPING}]"),
+        ));
+    }
+    let (points, key): (Vec<[f64; 2]>, &str) = match (&g.receivers, &g.distances_m, g.pier) {
+        (Some(r), None, None) => {
+            for (i, p) in r.iter().enumerate() {
+                finite(&format!("ground.receivers[{i}][0]"), p[0])?;
+                finite(&format!("ground.receivers[{i}][1]"), p[1])?;
+            }
+            (r.clone(), "ground.receivers")
+        }
+        (None, Some(d), Some(pier)) => {
+            let pier = bounded("ground.pier", pier, 1, v.spans + 1)?;
+            let x = (pier - 1) as f64 * v.span_length;
+            let mut pts = Vec::with_capacity(d.len());
+            for (i, &y) in d.iter().enumerate() {
+                pts.push([x, finite(&format!("ground.distances_m[{i}]"), y)?]);
+            }
+            (pts, "ground.distances_m")
+        }
+        _ => {
+            return Err(Error::invalid(
+                "ground",
+                "give either `receivers` ([x, y] points) or `distances_m` with `pier`",
+            ))
+        }
+    };
+    bounded(key, points.len(), 1, MAX_RECEIVERS)?;
+    let radius = b
+        .footing
+        .as_ref()
+        .map_or(0.0, |f| f.along_x_m.hypot(f.across_y_m) / 2.0);
+    for (i, p) in points.iter().enumerate() {
+        for k in 0..=v.spans {
+            let r = (p[0] - k as f64 * v.span_length).hypot(p[1]);
+            if r < radius {
+                return Err(Error::invalid(
+                    format!("{key}[{i}]"),
+                    format!(
+                        "lies {r:.3} m from pier {}, inside its footing's circumscribed circle (radius {radius:.3} m)",
+                        k + 1
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(points)
 }
 
 /// Refuses FE discretisations whose Newmark matrix cannot be solved to useful precision or

@@ -10,6 +10,7 @@ pub mod control;
 pub mod design;
 pub mod error;
 pub mod fe;
+pub mod ground;
 pub mod guideway;
 pub mod hil;
 pub mod input;

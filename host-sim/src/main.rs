@@ -51,6 +51,9 @@ enum Command {
     /// The paper's §5 (Fig. 8): maglev and wheel/rail trains over the viaduct, band levels at
     /// a carriage and a pier, held against the paper's statements; report.md into --out.
     Report(cli::report::Args),
+    /// Ground-borne vibration: `ground green` prints the half-space Green's function
+    /// (vertical surface displacement per newton of a vertical point load; docs/ground.md).
+    Ground(cli::ground::Args),
 }
 
 /// Exit status: [`EXIT_CODES`], decided by [`maglev_host_sim::Error::exit_code`].
@@ -70,6 +73,7 @@ fn main() -> ExitCode {
         Command::Hil(a) => cli::hil::run(a),
         Command::Bands(a) => cli::bands::run(a),
         Command::Report(a) => cli::report::run(a),
+        Command::Ground(a) => cli::ground::run(a),
         Command::Sweep(a) => cli::sweep::run(a).map_err(anyhow::Error::from),
     };
     match result {

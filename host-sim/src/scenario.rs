@@ -86,7 +86,7 @@ pub struct BridgeSection {
     pub polar_mass_t_m2_per_m: Option<f64>,
     /// `spans` (independent simply supported spans on rigid supports, the default) or
     /// `viaduct` (the girders above on bearings, piers and footings: docs/viaduct.md; needs
-    /// `[bridge.bearings]`, `[bridge.pier]`, `[bridge.footing]`, `[bridge.soil]`).
+    /// `[bridge.bearings]`, `[bridge.pier]`, `[bridge.footing]` and the top-level `[soil]`).
     #[serde(default)]
     pub kind: BridgeKind,
     /// Rayleigh damping of the FE spans (`[bridge.damping]`); none by default (the paper's).
@@ -94,7 +94,6 @@ pub struct BridgeSection {
     pub bearings: Option<BearingsSection>,
     pub pier: Option<PierSection>,
     pub footing: Option<FootingSection>,
-    pub soil: Option<SoilSection>,
 }
 
 /// `[bridge.damping]`: Rayleigh damping `C = α·M + β·K` of the FE spans, given as the damping
@@ -168,13 +167,28 @@ pub struct FootingSection {
     pub density_t_per_m3: f64,
 }
 
-/// `[bridge.soil]`: the half-space under the footings (Gazetas' impedances, docs/viaduct.md).
+/// `[soil]`: the homogeneous half-space under the viaduct, once for both the footings
+/// (Gazetas' impedances, docs/viaduct.md) and the ground between them (the Green's function
+/// of `[ground]`, docs/ground.md).
 #[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct SoilSection {
     pub shear_wave_velocity_m_per_s: f64,
     pub density_t_per_m3: f64,
     pub poisson: f64,
+    /// Hysteretic damping ratio ξ of the soil (μ* = μ(1 + 2iξ)); needed by `[ground]`.
+    pub damping_ratio: Option<f64>,
+}
+
+/// `[ground]`: receivers on the ground surface whose vertical velocity a viaduct run writes
+/// to ground.csv (docs/ground.md): `receivers` (points `[x, y]`, m) or `distances_m` across
+/// the line at pier `pier`.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct GroundSection {
+    pub receivers: Option<Vec<[f64; 2]>>,
+    pub distances_m: Option<Vec<f64>>,
+    pub pier: Option<usize>,
 }
 
 /// `[vehicle]` / `[train]`: what runs over the guideway, by `kind`. Each kind's keys are a
@@ -427,6 +441,10 @@ pub struct Scenario {
     pub controller: Option<ControllerSection>,
     pub irregularity: Option<IrregularitySection>,
     pub output: Option<OutputSection>,
+    /// The half-space under the viaduct (`[soil]`).
+    pub soil: Option<SoilSection>,
+    /// Ground receivers (`[ground]`).
+    pub ground: Option<GroundSection>,
 }
 
 /// `[output]`: what a run records.

@@ -3,6 +3,7 @@
 //! errors are one line naming what is wrong.
 pub mod bands;
 pub mod control;
+pub mod ground;
 pub mod hil;
 pub mod irregularity;
 pub mod modes;

@@ -2,7 +2,9 @@
 //! modal or rigid guideway.
 
 use crate::cli::progress::Progress;
+use crate::ground::receivers::{self, BaseForces};
 use crate::output::{gap_ranges, response_recorder, write_run, Columns, Staging, Summary};
+use crate::probes::Tee;
 use crate::setup::{simulate, Controllers};
 use crate::simulation::Outcome;
 use crate::Error;
@@ -79,6 +81,47 @@ pub fn warn(outcome: &Outcome) {
     }
 }
 
+/// The recorder of every pier's base force, when the case has ground receivers.
+pub fn ground_recorder(case: &Case) -> Option<BaseForces> {
+    let v = case.viaduct.as_ref()?;
+    case.ground.as_ref()?;
+    let f = &v.foundation;
+    Some(BaseForces::new(v.spans + 1, f.stiffness[2], f.damping[2]))
+}
+
+/// ground.csv of the case's receivers from the recorded base forces (docs/ground.md).
+pub fn write_ground(out: &Staging, case: &Case, b: &BaseForces) -> crate::Result<()> {
+    let (Some(v), Some(soil), Some(g)) = (&case.viaduct, &case.soil, &case.ground) else {
+        return Ok(());
+    };
+    let (start, cpu) = (std::time::Instant::now(), process_cpu_seconds());
+    let vel = receivers::of_run(soil, v.span_length, b, g)?;
+    eprintln!(
+        "maglev: ground: {} receiver(s) from {} piers in {:.2} s wall, {:.2} s CPU",
+        g.len(),
+        b.forces.len(),
+        start.elapsed().as_secs_f64(),
+        process_cpu_seconds() - cpu
+    );
+    out.put("ground.csv", &receivers::csv(&b.t, &vel))
+}
+
+/// CPU seconds used by the whole process so far (all threads), for the ground step's report
+/// on a shared machine (docs/ground.md, "Cost").
+fn process_cpu_seconds() -> f64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant of the platform.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+    if rc == 0 {
+        ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+    } else {
+        f64::NAN
+    }
+}
+
 /// Runs the command. Once the outputs are written: [`Error::Strict`] when `--strict` and the
 /// run collided or left its gap bounds (exit 3), else [`check_converged`].
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -86,9 +129,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let out = Staging::new(&args.out)?;
     let mut rec = response_recorder(&out, case.probes.clone())?;
     let mut bar = Progress::run("run");
-    let run = simulate(&case, Controllers::Core, &mut rec, |f| bar.fraction(f))?;
+    let mut base = ground_recorder(&case);
+    let run = match &mut base {
+        Some(b) => simulate(&case, Controllers::Core, &mut Tee(&mut rec, b), |f| {
+            bar.fraction(f)
+        })?,
+        None => simulate(&case, Controllers::Core, &mut rec, |f| bar.fraction(f))?,
+    };
     drop(bar);
     rec.finish()?;
+    if let Some(b) = &base {
+        write_ground(&out, &case, b)?;
+    }
     let (outcome, wall) = (run.outcome, run.wall);
     warn(&outcome);
     let columns = Columns::read(&out)?;

@@ -23,6 +23,12 @@
 //! and rocking. Held constant (frequency-independent): at the bridge's 2–6.5 Hz the true
 //! rocking dashpot is smaller (Gazetas' c̃_r < 1 at small a₀ = ω B / V_s), so rocking
 //! damping is overestimated; translational dashpots are close to their constant value.
+//!
+//! The soil's hysteretic damping ratio ξ ([`Soil::damping`], the same soil as the ground's
+//! Green's function, `crate::ground`) is not added to the footing: in the frequency domain it
+//! adds 2ξK to the imaginary part of each impedance, a dashpot 2ξK/ω that no constant
+//! time-domain dashpot can carry; at ξ = 0.03 and the bridge's 2–6.5 Hz it is 6–20 % of the
+//! vertical radiation dashpot (docs/ground.md). The springs use the real modulus G = ρV_s².
 
 use crate::Error;
 
@@ -35,6 +41,9 @@ pub struct Soil {
     pub density: f64,
     /// Poisson's ratio ν.
     pub poisson: f64,
+    /// Hysteretic damping ratio ξ (μ* = μ(1 + 2iξ)); 0 when not given. Used by the ground's
+    /// Green's function only (module docs).
+    pub damping: f64,
 }
 
 impl Soil {
@@ -131,6 +140,7 @@ mod tests {
             shear_wave_velocity: 200.0,
             density: 1800.0,
             poisson: 0.3,
+            damping: 0.0,
         };
         let z = gazetas_rectangle(&soil, 8.0, 8.0).unwrap();
         assert_eq!(z.stiffness[0], z.stiffness[1]);

@@ -557,6 +557,7 @@ pub fn paper5_viaduct() -> ViaductSpec {
         shear_wave_velocity: 250.0,
         density: 1900.0,
         poisson: 0.33,
+        damping: 0.03,
     };
     let foundation = FoundationSpec::footing(&soil, 9.0, 12.0, 2.5, 2500.0)
         .expect("the paper-5 footing values are valid");

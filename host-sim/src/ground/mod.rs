@@ -1,0 +1,14 @@
+//! Ground-borne vibration: the pier-base forces of a run carried to receivers on the ground
+//! surface by the Green's function of the soil (docs/ground.md).
+//!
+//! Why a reduced model: the paper meshes the soil with millions of solid-element DOFs to
+//! show the ground surface moving; environmental assessments need levels at receivers, and
+//! a homogeneous half-space's point-load Green's function (Lamb's problem) applied to each
+//! pier's vertical base force gives them at a tiny fraction of that cost.
+//!
+//! - [`green`]: the half-space Green's function (wavenumber integral, its numerics);
+//! - [`bessel`]: J0 for it;
+//! - [`receivers`]: the pier-base forces of a run to the receivers' velocities (ground.csv).
+pub mod bessel;
+pub mod green;
+pub mod receivers;

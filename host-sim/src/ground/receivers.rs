@@ -1,0 +1,273 @@
+//! Receivers: each receiver's vertical surface velocity is the sum over the piers of the
+//! half-space Green's function ([`super::green`]) applied to that pier's vertical base force,
+//! computed in the frequency domain (docs/ground.md, "Receivers").
+//!
+//! - **The force.** Pier k pushes the soil down with P_k(t) = −(k_z z_k + c_z ż_k), the force
+//!   in its footing's vertical spring and dashpot (z up, so a footing pressed down pushes
+//!   down); [`BaseForces`] records it at every committed step.
+//! - **Before and after the record.** The force is zero before t = 0 (the run starts at rest)
+//!   and holds its last value after the record: its spectrum is that of its increments
+//!   d_j = P_j − P_{j−1} (P_{−1} = 0), F(ω) = D(ω)/(1 − e^{−iωΔt}), so no jump of the
+//!   padded record back to zero is ever seen by the soil.
+//! - **The velocity.** V(ω) = iω·Σ_k G(ω, r_k)·F_k(ω), i.e. Σ_k G·D_k·iω/(1 − e^{−iωΔt}),
+//!   on the grid of one real FFT (`realfft`) of length M, inverse-transformed; velocity
+//!   positive **up** (the project's Z). At 0 Hz and at the Nyquist bin the real part is
+//!   kept (a real signal's spectrum is real there; the hysteretic μ* is taken as μ at 0 Hz).
+//! - **Padding (nothing wraps around).** M is the smallest power of two
+//!   ≥ N + ⌈(2·r_max/c_R + 1 s)/Δt⌉: every wave from the farthest pier (the Rayleigh wave,
+//!   the slowest, at r_max/c_R) has arrived and twice that time has passed before the
+//!   circular convolution could bring the end of the padded window back onto the record.
+//!   host-sim/tests/ground_receivers.rs checks that doubling M changes nothing visible.
+//! - **The Green's function once per frequency bin and distance.** W depends on
+//!   x = 2πfr/c_s only (green.rs, (G2)), so it is tabulated once on a uniform x grid and
+//!   interpolated (cubic Lagrange on W·e^{iRe(q_R)x}, the Rayleigh phase taken out, spacing
+//!   0.5) for every (bin, pier–receiver distance) pair.
+
+use super::green::{complex_shear_modulus, Green};
+use crate::fe::soil::Soil;
+use crate::probes::{Recorder, StepView};
+use crate::{Error, Result};
+use realfft::RealFftPlanner;
+use rustfft::num_complex::Complex64 as C;
+use std::f64::consts::PI;
+
+/// Records the vertical force each pier's footing pushes into the soil at every step.
+pub struct BaseForces {
+    /// Footing vertical spring (N/m) and dashpot (N·s/m).
+    stiffness: f64,
+    damping: f64,
+    piers: usize,
+    /// The time of every recorded step (s).
+    pub t: Vec<f64>,
+    /// Per pier, the downward force (N) at every recorded step.
+    pub forces: Vec<Vec<f64>>,
+}
+
+impl BaseForces {
+    /// For `piers` piers on footings of vertical stiffness `stiffness` and dashpot `damping`.
+    pub fn new(piers: usize, stiffness: f64, damping: f64) -> Self {
+        BaseForces {
+            stiffness,
+            damping,
+            piers,
+            t: Vec::new(),
+            forces: vec![Vec::new(); piers],
+        }
+    }
+}
+
+impl Recorder for BaseForces {
+    fn record(&mut self, step: &StepView) -> Result<()> {
+        self.t.push(step.t);
+        for k in 0..self.piers {
+            let b = step.guideway.pier_base(k + 1).ok_or_else(|| {
+                Error::numerical(format!("ground: the guideway has no pier {}", k + 1))
+            })?;
+            self.forces[k].push(-(self.stiffness * b.z + self.damping * b.vz));
+        }
+        Ok(())
+    }
+}
+
+/// W(x) tabulated on a uniform grid with the Rayleigh phase removed (module docs).
+struct Table {
+    step: f64,
+    /// W = 0 beyond this x ([`Green::negligible_beyond`]).
+    end: f64,
+    /// e^{i Re(q_R) x}·W(x) at x = i·step.
+    values: Vec<C>,
+    phase: f64,
+}
+
+/// Grid spacing of the table in x.
+const TABLE_STEP: f64 = 0.5;
+
+impl Table {
+    fn new(green: &Green, x_max: f64) -> Result<Self> {
+        use rayon::prelude::*;
+        let phase = green.rayleigh_pole()?.re;
+        let end = x_max.min(green.negligible_beyond());
+        let n = (end / TABLE_STEP).ceil() as usize + 3;
+        let values = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let x = i as f64 * TABLE_STEP;
+                green.scaled(x) * C::from_polar(1.0, phase * x)
+            })
+            .collect();
+        Ok(Table {
+            step: TABLE_STEP,
+            end,
+            values,
+            phase,
+        })
+    }
+
+    /// W(x) by cubic Lagrange interpolation (x within the table).
+    fn at(&self, x: f64) -> C {
+        if x > self.end {
+            return C::new(0.0, 0.0);
+        }
+        let u = x / self.step;
+        let i = (u.floor() as usize).clamp(1, self.values.len() - 3);
+        let t = u - i as f64;
+        let v = &self.values[i - 1..i + 3];
+        let w = [
+            -t * (t - 1.0) * (t - 2.0) / 6.0,
+            (t + 1.0) * (t - 1.0) * (t - 2.0) / 2.0,
+            -(t + 1.0) * t * (t - 2.0) / 2.0,
+            (t + 1.0) * t * (t - 1.0) / 6.0,
+        ];
+        let s = v[0] * w[0] + v[1] * w[1] + v[2] * w[2] + v[3] * w[3];
+        s * C::from_polar(1.0, -self.phase * x)
+    }
+}
+
+/// The padded FFT length for `n` samples at `dt` and a farthest pier `r_max` away on `soil`
+/// (module docs), and the Rayleigh speed it used.
+pub fn padded_length(n: usize, dt: f64, r_max: f64, soil: &Soil, green: &Green) -> Result<usize> {
+    let c_r = soil.shear_wave_velocity / green.rayleigh_pole()?.re;
+    let extra = ((2.0 * r_max / c_r + 1.0) / dt).ceil();
+    let m = (n as f64 + extra).max(2.0);
+    if m > 1e9 {
+        return Err(Error::invalid(
+            "ground",
+            format!("the padded record would hold {m:.3e} samples (farthest pier {r_max} m away)"),
+        ));
+    }
+    Ok((m as usize).next_power_of_two())
+}
+
+/// The vertical velocity (m/s, up) at each receiver at each of the `n` samples, from the
+/// downward forces `forces[k][j]` (N) of piers at `piers[k]` (x, y in m), sampled at `dt`,
+/// on `soil`, with the FFT length `m` (at least [`padded_length`]'s; module docs).
+pub fn velocities(
+    soil: &Soil,
+    dt: f64,
+    forces: &[Vec<f64>],
+    piers: &[[f64; 2]],
+    receivers: &[[f64; 2]],
+    m: usize,
+) -> Result<Vec<Vec<f64>>> {
+    let green = Green::new(soil.poisson, soil.damping)?;
+    let n = forces.first().map_or(0, Vec::len);
+    if forces.len() != piers.len() || forces.iter().any(|f| f.len() != n) || n == 0 || m < n {
+        return Err(Error::invalid(
+            "ground",
+            "every pier needs one force history of the record's length",
+        ));
+    }
+    let dist = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]);
+    let r_max = receivers
+        .iter()
+        .flat_map(|q| piers.iter().map(move |p| dist(p, q)))
+        .fold(0.0, f64::max);
+    let bins = m / 2 + 1;
+    let df = 1.0 / (m as f64 * dt);
+    let x_max = 2.0 * PI * (bins - 1) as f64 * df * r_max / soil.shear_wave_velocity;
+    let table = Table::new(&green, x_max)?;
+    let mu = complex_shear_modulus(soil);
+    let mut planner = RealFftPlanner::<f64>::new();
+    let fwd = planner.plan_fft_forward(m);
+    let inv = planner.plan_fft_inverse(m);
+    // Each pier's increments' spectrum, times iω/(1 − e^{−iωΔt}).
+    let mut spectra = Vec::with_capacity(piers.len());
+    for f in forces {
+        let mut d = vec![0.0; m];
+        let mut last = 0.0;
+        for (j, &p) in f.iter().enumerate() {
+            d[j] = p - last;
+            last = p;
+        }
+        let mut s = fwd.make_output_vec();
+        fwd.process(&mut d, &mut s)
+            .map_err(|e| Error::numerical(format!("ground FFT: {e}")))?;
+        for (i, v) in s.iter_mut().enumerate() {
+            let w = 2.0 * PI * i as f64 * df;
+            *v *= if i == 0 {
+                C::new(1.0 / dt, 0.0)
+            } else {
+                C::new(0.0, w) / (1.0 - C::from_polar(1.0, -w * dt))
+            };
+        }
+        spectra.push(s);
+    }
+    let mut out = Vec::with_capacity(receivers.len());
+    for q in receivers {
+        let mut v = vec![C::new(0.0, 0.0); bins];
+        for (p, s) in piers.iter().zip(&spectra) {
+            let r = dist(p, q);
+            if r <= 0.0 {
+                return Err(Error::invalid("ground", "a receiver stands on a pier"));
+            }
+            let scale = 1.0 / (2.0 * PI * r * mu);
+            for (i, vi) in v.iter_mut().enumerate() {
+                let x = 2.0 * PI * i as f64 * df * r / soil.shear_wave_velocity;
+                let g = if i == 0 {
+                    C::new(
+                        (1.0 - soil.poisson) / (2.0 * PI * r * soil.shear_modulus()),
+                        0.0,
+                    )
+                } else {
+                    table.at(x) * scale
+                };
+                *vi += g * s[i];
+            }
+        }
+        // Real at 0 Hz and Nyquist (module docs); displacement down → velocity up: minus.
+        v[0].im = 0.0;
+        // M is a power of two (≥ 2): the last bin is the Nyquist bin.
+        v[bins - 1].im = 0.0;
+        let mut t = vec![0.0; m];
+        inv.process(&mut v, &mut t)
+            .map_err(|e| Error::numerical(format!("ground inverse FFT: {e}")))?;
+        out.push(t[..n].iter().map(|x| -x / m as f64).collect());
+    }
+    Ok(out)
+}
+
+/// ground.csv: `t` and one column `ground{N}.vz` per receiver (m/s, up), shortest
+/// round-trip decimals as response.csv.
+pub fn csv(t: &[f64], v: &[Vec<f64>]) -> String {
+    let mut line = Vec::new();
+    line.extend_from_slice(b"t");
+    for i in 0..v.len() {
+        line.extend_from_slice(format!(",ground{}.vz", i + 1).as_bytes());
+    }
+    line.push(b'\n');
+    for (j, &tj) in t.iter().enumerate() {
+        crate::probes::push_csv_f64(&mut line, tj);
+        for r in v {
+            line.push(b',');
+            crate::probes::push_csv_f64(&mut line, r[j]);
+        }
+        line.push(b'\n');
+    }
+    String::from_utf8(line).unwrap_or_default()
+}
+
+/// The receivers' velocities of a viaduct run: piers at x = k·`span` (k = 0 … piers − 1,
+/// y = 0), the recorded base forces, padding by [`padded_length`].
+pub fn of_run(
+    soil: &Soil,
+    span: f64,
+    rec: &BaseForces,
+    receivers: &[[f64; 2]],
+) -> Result<Vec<Vec<f64>>> {
+    let piers: Vec<[f64; 2]> = (0..rec.piers).map(|k| [k as f64 * span, 0.0]).collect();
+    let n = rec.t.len();
+    if n < 2 {
+        return Err(Error::invalid(
+            "ground",
+            "the run recorded fewer than 2 steps",
+        ));
+    }
+    let dt = (rec.t[n - 1] - rec.t[0]) / (n - 1) as f64;
+    let green = Green::new(soil.poisson, soil.damping)?;
+    let r_max = receivers
+        .iter()
+        .flat_map(|q| piers.iter().map(move |p| (p[0] - q[0]).hypot(p[1] - q[1])))
+        .fold(0.0, f64::max);
+    let m = padded_length(n, dt, r_max, soil, &green)?;
+    velocities(soil, dt, &rec.forces, &piers, receivers, m)
+}
