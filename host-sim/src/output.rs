@@ -157,7 +157,7 @@ impl Summary {
         let limit = case
             .controller
             .as_ref()
-            .and_then(|c| voltage_limit(&case.law, c));
+            .and_then(|c| voltage_limit(&case.law().ok()?, c));
         let coils = coil_summaries(&outcome.coil_ranges, case.dt, limit.is_some());
         let min_gap = gaps.iter().map(|g| g.min_m).reduce(f64::min);
         Summary {

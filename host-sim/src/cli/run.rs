@@ -1,6 +1,7 @@
 //! `maglev run SCENARIO [--set key=value]... [--out DIR] [--strict]`: one passage over an FE,
 //! modal or rigid guideway.
 
+use crate::case::Case;
 use crate::cli::progress::Progress;
 use crate::ground::receivers::{self, BaseForces};
 use crate::output::{gap_ranges, response_recorder, write_run, Columns, Staging, Summary};
