@@ -56,11 +56,13 @@ pub mod exit {
 }
 
 impl Error {
-    /// A bad value: `key` as the user wrote it, `reason` with the limit.
+    /// A bad value: `key` as the user wrote it, `reason` with the limit. Line breaks in
+    /// either (a user's text echoed back, e.g. a probe name) are written `\n`, so the error
+    /// stays one line (the input fuzz target found a probe name with a newline in it).
     pub fn invalid(key: impl Into<String>, reason: impl Into<String>) -> Self {
         Error::Invalid {
-            key: key.into(),
-            reason: reason.into(),
+            key: one_line(key.into()),
+            reason: one_line(reason.into()),
         }
     }
 
@@ -123,6 +125,15 @@ pub fn excerpt(message: &str) -> String {
 
 /// `Result` with the library's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// `s` with its line breaks escaped (`\n`, `\r`).
+fn one_line(s: String) -> String {
+    if s.contains(['\n', '\r']) {
+        s.replace('\n', "\\n").replace('\r', "\\r")
+    } else {
+        s
+    }
+}
 
 /// `v` for an error message: as written for ordinary magnitudes, in exponent form otherwise
 /// (`{}` of 1e-300 is 300 digits: one line, but not a readable one).

@@ -941,6 +941,9 @@ mod tests {
         let e = refused("wheel0.z", &E);
         assert!(e.contains("from 1"), "{e}");
         assert!(refused("wheel1.colour", &E).contains("unknown probe"));
+        // Found by the input fuzz target: a name with a line break made a two-line error.
+        let e = parse("%spa#\\\ngap_y", &E).unwrap_err().to_string();
+        assert!(!e.contains('\n') && e.contains("%spa#\\\\ngap_y"), "{e}");
         assert!(refused("car2.body.z", &E).contains("at most 1"));
         let forces = Extent {
             magnets: false,
