@@ -97,6 +97,9 @@ pub struct StateParams {
     pub geometry: Geometry,
 }
 
+/// The most control periods one update may run (rate_hz·dt): 1 s steps at 10 kHz.
+pub const MAX_PERIODS: f64 = 10_000.0;
+
 impl StateParams {
     /// Default control rate (Hz).
     pub const RATE_HZ: f64 = 10_000.0;
@@ -145,6 +148,8 @@ impl StateParams {
     }
 
     /// Control periods per structural step `dt` (at least one).
+    ///
+    /// [`StateParams::compile`] refuses more than [`MAX_PERIODS`].
     pub fn periods(&self, dt: f64) -> u32 {
         let n = libm::round(dt * self.rate_hz);
         if n < 1.0 {
@@ -159,6 +164,13 @@ impl StateParams {
     /// Converts once to the run-time type for the magnet `m` (its `dt` is the structural step).
     pub fn compile<S: Scalar>(&self, m: &Params) -> Result<StateLaw<S>, ParamError> {
         self.validate()?;
+        if m.dt * self.rate_hz > MAX_PERIODS {
+            // One update would run that many periods: a configuration (e.g. a firmware tick
+            // of 1 Hz with rate_hz = 1e9) that hangs the caller instead of controlling.
+            return Err(ParamError::NotPositive(
+                "10 000 − state rate_hz·dt (control periods per step)",
+            ));
+        }
         let n = self.periods(m.dt);
         let delta = m.dt / n as f64;
         let omega = 2.0 * PI * self.observer_hz;
@@ -675,6 +687,12 @@ mod tests {
                 ..g
             }),
             ParamError::NotPositive("state rate_hz (at least 2π·observer_hz)")
+        );
+        // 1e8 periods in one update would hang the caller (a firmware tick far slower than
+        // the control rate): refused.
+        assert_eq!(
+            compile(StateParams { rate_hz: 1e11, ..g }),
+            ParamError::NotPositive("10 000 − state rate_hz·dt (control periods per step)")
         );
     }
 }
