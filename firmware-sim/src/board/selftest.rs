@@ -152,6 +152,21 @@ pub struct Counts {
     pub max: u32,
 }
 
+impl Counts {
+    /// Adds one step's count `n` (`nominal`: a step without events) to `counts`.
+    fn note(counts: &mut Option<Counts>, n: u32, nominal: bool) {
+        let c = counts.get_or_insert(Counts {
+            nominal_min: u32::MAX,
+            ..Counts::default()
+        });
+        if nominal {
+            c.nominal_min = c.nominal_min.min(n);
+            c.nominal_max = c.nominal_max.max(n);
+        }
+        c.max = c.max.max(n);
+    }
+}
+
 /// Runs the trace with scalar `S` and configuration `cfg`, one line per step.
 pub fn run<S: Bits, W: Write, M: Measure>(
     w: &mut W,
@@ -186,15 +201,7 @@ pub fn run<S: Bits, W: Write, M: Measure>(
             out.status.0 | if ov { 0x80 } else { 0 }, // 0x80: the gap saturated on conversion
         )?;
         if let Some(n) = n {
-            let c = counts.get_or_insert(Counts {
-                nominal_min: u32::MAX,
-                ..Counts::default()
-            });
-            if out.status.is_empty() {
-                c.nominal_min = c.nominal_min.min(n);
-                c.nominal_max = c.nominal_max.max(n);
-            }
-            c.max = c.max.max(n);
+            Counts::note(&mut counts, n, out.status.is_empty());
         }
     }
     Ok(counts)
@@ -298,15 +305,7 @@ pub fn law_type_cost<S: Bits, W: Write, M: Measure>(w: &mut W, m: &M, cfg: Confi
             return Err(fmt::Error); // the law type no longer gives the controller's bits
         }
         if let Some(n) = n {
-            let c = counts.get_or_insert(Counts {
-                nominal_min: u32::MAX,
-                ..Counts::default()
-            });
-            if out.status.is_empty() {
-                c.nominal_min = c.nominal_min.min(n);
-                c.nominal_max = c.nominal_max.max(n);
-            }
-            c.max = c.max.max(n);
+            Counts::note(&mut counts, n, out.status.is_empty());
         }
     }
     match counts {
