@@ -14,6 +14,12 @@
 //! (`.OUT.partial-PID`, known by [`PARTIAL`] inside) and the previous output it had renamed
 //! aside (`.OUT.old-PID`, put back when `--out` is missing, else removed if marked). A
 //! signal removes the staging directory at once ([`interrupt`]).
+//!
+//! A staging directory is known to be abandoned by its [`PARTIAL`] file, which the writing
+//! process holds locked (`flock`) for as long as it lives: the kernel drops the lock when the
+//! process ends, however it ends, so a process id reused by an unrelated process does not
+//! keep a dead run's directory (the PID in the name only keeps concurrent runs apart). Where
+//! the file system has no locks, the PID decides: alive means kept.
 
 pub mod interrupt;
 
@@ -93,6 +99,9 @@ pub struct Staging {
     /// Where the previous output is moved while the new one is renamed into place.
     old: PathBuf,
     kind: Kind,
+    /// The [`PARTIAL`] file, held locked while the run lives (module docs); `None` where the
+    /// file system has no locks.
+    _alive: Option<std::fs::File>,
 }
 
 impl Staging {
@@ -128,16 +137,13 @@ impl Staging {
         let pid = std::process::id();
         let tmp = parent.join(format!(".{name}.partial-{pid}"));
         let _ = std::fs::remove_dir_all(&tmp);
-        interrupt::register(&tmp, || {
-            std::fs::create_dir(&tmp)
-                .and_then(|()| std::fs::write(tmp.join(PARTIAL), "a maglev run being written\n"))
-                .map_err(|e| Error::io(&tmp, e))
-        })?;
+        let alive = interrupt::register(&tmp, || create_locked(&tmp))?;
         Ok(Staging {
             target: target.to_path_buf(),
             old: parent.join(format!(".{name}.old-{pid}")),
             tmp,
             kind,
+            _alive: alive,
         })
     }
 
@@ -192,6 +198,34 @@ impl Staging {
     }
 }
 
+/// Creates staging directory `tmp` with its [`PARTIAL`] file locked (module docs). The file
+/// is written and locked under another name and then renamed, so no other process ever sees
+/// an unlocked [`PARTIAL`] of a live run. `None`: the file system has no locks.
+fn create_locked(tmp: &Path) -> Result<Option<std::fs::File>> {
+    let io = |e| Error::io(tmp, e);
+    std::fs::create_dir(tmp).map_err(io)?;
+    let unnamed = tmp.join(format!("{PARTIAL}.new"));
+    let mut file = std::fs::File::create(&unnamed).map_err(io)?;
+    let locked = file.try_lock().is_ok();
+    std::io::Write::write_all(&mut file, b"a maglev run being written\n").map_err(io)?;
+    std::fs::rename(&unnamed, tmp.join(PARTIAL)).map_err(io)?;
+    Ok(locked.then_some(file))
+}
+
+/// Whether the staging directory `dir` (named with `pid`) was abandoned: its [`PARTIAL`]
+/// file is there and no process holds its lock (module docs); by the PID where the file
+/// system has no locks.
+fn abandoned(dir: &Path, pid: u32) -> bool {
+    let Ok(file) = std::fs::File::open(dir.join(PARTIAL)) else {
+        return false;
+    };
+    match file.try_lock() {
+        Ok(()) => true,
+        Err(std::fs::TryLockError::WouldBlock) => false,
+        Err(std::fs::TryLockError::Error(_)) => !is_alive(pid),
+    }
+}
+
 /// Removes a previous output moved aside (checked to be replaceable): all of it when marked,
 /// only an empty directory otherwise (`remove_dir` refuses one filled meanwhile).
 fn remove_replaced(old: &Path) {
@@ -212,13 +246,13 @@ fn clean_stale(parent: &Path, name: &str, target: &Path, kind: Kind) {
     let (partial, old) = (format!(".{name}.partial-"), format!(".{name}.old-"));
     for entry in entries.flatten() {
         let file = entry.file_name().to_string_lossy().into_owned();
-        let dead = |prefix: &str| {
+        let pid = |prefix: &str| {
             file.strip_prefix(prefix)
                 .and_then(|pid| pid.parse::<u32>().ok())
-                .is_some_and(|pid| !is_alive(pid))
         };
+        let dead = |prefix: &str| pid(prefix).is_some_and(|pid| !is_alive(pid));
         let path = entry.path();
-        if dead(&partial) && path.join(PARTIAL).is_file() {
+        if pid(&partial).is_some_and(|pid| abandoned(&path, pid)) {
             let _ = std::fs::remove_dir_all(&path);
         } else if dead(&old) {
             if !target.exists() {
@@ -408,14 +442,21 @@ mod tests {
         let out = root.join("out");
         Staging::new(&out).unwrap().finish().unwrap();
         let pid = dead_pid();
-        // A killed run's staging directory, another process's live one, and a directory
-        // that only looks like a staging directory (no PARTIAL file).
+        // A killed run's staging directory; one whose PID now belongs to another live
+        // process (1, init: alive, but the run's lock is gone); a live run's (its PARTIAL
+        // locked, as another process holds it: flock locks of two opens are independent);
+        // and a directory that only looks like a staging directory (no PARTIAL file).
         let stale = root.join(format!(".out.partial-{pid}"));
         std::fs::create_dir(&stale).unwrap();
         std::fs::write(stale.join(PARTIAL), "").unwrap();
-        let live = root.join(".out.partial-1");
+        let reused = root.join(".out.partial-1");
+        std::fs::create_dir(&reused).unwrap();
+        std::fs::write(reused.join(PARTIAL), "").unwrap();
+        let live = root.join(format!(".out.partial-{}", pid + 2_000_000));
         std::fs::create_dir(&live).unwrap();
         std::fs::write(live.join(PARTIAL), "").unwrap();
+        let held = std::fs::File::open(live.join(PARTIAL)).unwrap();
+        held.try_lock().unwrap();
         let lookalike = root.join(format!(".out.partial-{}", pid + 1_000_000));
         std::fs::create_dir(&lookalike).unwrap();
         std::fs::write(lookalike.join("data"), "").unwrap();
@@ -424,7 +465,15 @@ mod tests {
             !stale.exists(),
             "a dead process's staging directory was kept"
         );
+        assert!(
+            !reused.exists(),
+            "a staging directory whose PID was reused was kept"
+        );
         assert!(live.exists() && lookalike.exists());
+        // Our own staging directory is locked: a second run into the same --out keeps it.
+        let ours = root.join(format!(".out.partial-{}", std::process::id()));
+        assert!(ours.join(PARTIAL).is_file() && !abandoned(&ours, std::process::id()));
+        drop(held);
         s.finish().unwrap();
         // A run killed between its two renames: the previous output is put back.
         std::fs::rename(&out, root.join(format!(".out.old-{pid}"))).unwrap();
