@@ -22,6 +22,7 @@ pub mod plot;
 pub mod probes;
 pub mod profile;
 pub mod scenario;
+pub mod seismic;
 pub mod setup;
 pub mod simulation;
 pub mod stability;

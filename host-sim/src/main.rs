@@ -54,6 +54,9 @@ enum Command {
     /// Ground-borne vibration: `ground green` prints the half-space Green's function
     /// (vertical surface displacement per newton of a vertical point load; docs/ground.md).
     Ground(cli::ground::Args),
+    /// A synthetic, seeded ground-acceleration record (Clough-Penzien noise under an
+    /// envelope, ending at rest, scaled to a PGA); CSV to stdout (docs/seismic.md).
+    Accelerogram(cli::accelerogram::Args),
 }
 
 /// Exit status: [`EXIT_CODES`], decided by [`maglev_host_sim::Error::exit_code`].
@@ -74,6 +77,7 @@ fn main() -> ExitCode {
         Command::Bands(a) => cli::bands::run(a),
         Command::Report(a) => cli::report::run(a),
         Command::Ground(a) => cli::ground::run(a),
+        Command::Accelerogram(a) => cli::accelerogram::run(a).map_err(anyhow::Error::from),
         Command::Sweep(a) => cli::sweep::run(a).map_err(anyhow::Error::from),
     };
     match result {

@@ -139,6 +139,7 @@ fn a_closed_or_full_stdout_is_no_panic() {
         &["modes", "--viaduct", "5"][..],
         &["stability"],
         &["irregularity", "--direction", "z", "--length", "1000"],
+        &["accelerogram", "--pga-g", "0.1"],
     ] {
         let mut child = Command::new(env!("CARGO_BIN_EXE_maglev"))
             .args(args)

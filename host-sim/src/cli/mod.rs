@@ -1,6 +1,7 @@
 //! One module per `maglev` subcommand. Each exposes `Args` (clap) and `run(Args)` returning
 //! `crate::Result` or `anyhow::Result`;
 //! errors are one line naming what is wrong.
+pub mod accelerogram;
 pub mod bands;
 pub mod control;
 pub mod ground;

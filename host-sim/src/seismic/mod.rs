@@ -1,0 +1,8 @@
+//! Earthquake input for the guideway's supports (docs/seismic.md).
+//!
+//! Why a module of its own: ground motion is data that enters the structure at its supports
+//! (pier bases, or span bearings where there are no piers); it is made or read here and then
+//! handed to the guideway as an excitation, so the solver needs no special case for it.
+//! [`accelerogram`] synthesises a seeded, reproducible record for a user without one.
+
+pub mod accelerogram;
