@@ -15,7 +15,6 @@ pub mod guideway;
 pub mod hil;
 pub mod input;
 pub mod modal;
-pub mod newmark;
 pub mod output;
 pub mod paper5;
 pub mod plot;
@@ -29,5 +28,6 @@ pub mod stability;
 pub mod sweep;
 pub mod validation;
 pub mod vehicle;
+pub mod vehicle_integrator;
 
 pub use error::{Error, Result};

@@ -9,7 +9,7 @@ use crate::cli::stdout::print;
 use crate::stability::discrete::{self, Step};
 use crate::stability::gap_loop::GapLoopPlant;
 use crate::stability::gauss;
-use crate::stability::gloop::Loop;
+use crate::stability::inner_loop::Loop;
 use crate::stability::plant::{rigid_growth_rate, Plant, Suspension};
 use crate::stability::report::{scenario_report, ScenarioReport};
 use crate::stability::Complex;

@@ -11,8 +11,8 @@
 //! - [`newmark`]: the per-term Newmark (γ = ½, β = ¼) stepper.
 //! - [`span`]: [`ModalGuideway`], the series on one span behind the `Guideway` trait;
 //! - [`viaduct`]: [`ModalViaduct`], one series per span of a line of simply supported spans.
+pub mod mode_integrator;
 pub mod modes;
-pub mod newmark;
 pub mod span;
 pub mod viaduct;
 

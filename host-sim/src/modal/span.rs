@@ -5,10 +5,10 @@ use core::fmt;
 
 use nalgebra::{Matrix1, Matrix2, Vector1, Vector2};
 
+use super::mode_integrator::{ModeState, NewmarkMode};
 use super::modes::{
     natural_frequencies, wavenumber, ModeFrequencies, PlaneProperties, TorsionProperties,
 };
-use super::newmark::{ModeState, NewmarkMode};
 use crate::guideway::{BeamSection, Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
 
 /// Why a [`ModalGuideway`] could not be built.

@@ -132,7 +132,7 @@ pub struct Spec {
 
 /// A three-component record on t = 0, Δt, …: accelerations in m/s².
 #[derive(Clone, Debug, PartialEq)]
-pub struct Record {
+pub struct Accelerogram {
     pub dt_s: f64,
     pub x: Vec<f64>,
     pub y: Vec<f64>,
@@ -233,7 +233,7 @@ impl Spec {
 }
 
 /// Synthesises the record of `spec` (module docs, steps 1–4).
-pub fn synthesize(spec: &Spec) -> Result<Record> {
+pub fn synthesize(spec: &Spec) -> Result<Accelerogram> {
     let n = spec.samples()?;
     let dt = spec.dt_s;
     let envelope: Vec<f64> = (0..n).map(|j| spec.envelope.at(j as f64 * dt)).collect();
@@ -251,7 +251,7 @@ pub fn synthesize(spec: &Spec) -> Result<Record> {
         let scale = peak / max;
         Ok(a.into_iter().map(|v| v * scale).collect())
     };
-    Ok(Record {
+    Ok(Accelerogram {
         dt_s: dt,
         x: component(0, spec.pga)?,
         y: component(1, spec.pga)?,

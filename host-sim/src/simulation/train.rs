@@ -1,19 +1,19 @@
 //! The train's side of a coupled step: one prefactored Newmark solve per car
-//! ([`crate::newmark::Newmark`]), never a matrix over the whole train (docs/model.md §10).
+//! ([`crate::vehicle_integrator::VehicleIntegrator`]), never a matrix over the whole train (docs/model.md §10).
 //!
 //! Why per car: cars share no spring, so the train's M, C, K are block-diagonal; a car of
 //! 13 DOFs costs the same whether it runs alone or as car 12 of 12, and the train's cost grows
 //! linearly in its cars. The cars may be advanced on rayon's pool ([`Train::parallel`]).
 
-use crate::newmark::Newmark;
 use crate::vehicle::Train;
+use crate::vehicle_integrator::VehicleIntegrator;
 use crate::{Error, Result};
 use nalgebra::{Cholesky, DVector};
 use rayon::prelude::*;
 
 /// One car's integrator and load vector.
 struct Car {
-    newmark: Newmark,
+    newmark: VehicleIntegrator,
     f: DVector<f64>,
 }
 
@@ -39,7 +39,7 @@ impl TrainState {
             n += c.m.nrows();
             cars.push(Car {
                 // The contact springs are implicit on the car's side (docs/cars.md).
-                newmark: Newmark::new(c.m.clone(), c.c.clone(), c.k_on_rigid_rail(), dt)?,
+                newmark: VehicleIntegrator::new(c.m.clone(), c.c.clone(), c.k_on_rigid_rail(), dt)?,
                 f: DVector::zeros(c.m.nrows()),
             });
         }

@@ -47,7 +47,7 @@
 //! ki = 600 s⁻¹) and n_sub = 1: α = 0.5 → 51.5 ms, 0.6 → 58.4 ms, 0.75 → 76.2 ms,
 //! 0.9 → 129 ms, 1.0 → none — far above the paper's Δt ≤ 10 ms.
 
-use super::gloop::Loop;
+use super::inner_loop::Loop;
 use super::Complex;
 use maglev_core::Params;
 use nalgebra::Matrix2;

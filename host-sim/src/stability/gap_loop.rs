@@ -78,7 +78,7 @@ impl GapLoopPlant {
         gains
             .validate()
             .map_err(|e| crate::Error::invalid("gap_loop", e.to_string()))?;
-        let lp = super::gloop::Loop::new(params, 0.0);
+        let lp = super::inner_loop::Loop::new(params, 0.0);
         let n = plant.a.nrows();
         let mut a = plant.a.clone().resize(n + 1, n + 1, 0.0);
         // z_m is state 0 in both plant variants.

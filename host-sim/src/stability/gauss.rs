@@ -1,7 +1,7 @@
 //! The accurate scheme (`maglev_core::levitation::accurate`) at a fixed gap, as a map of
 //! `(x, y)`: why it is stable for every step.
 //!
-//! At a fixed gap the limit system `ż = J·z + f` ([`super::gloop`]) has constant coefficients,
+//! At a fixed gap the limit system `ż = J·z + f` ([`super::inner_loop`]) has constant coefficients,
 //! and any s-stage Gauss–Legendre method applied to a linear constant-coefficient system is
 //! its (s, s) Padé approximant of the exponential. For s = 2, one interval `h = Δt/m` maps the
 //! deviation from equilibrium by
@@ -11,7 +11,7 @@
 //! ```
 //!
 //! and one outer step by `R^m`. `|R(z)| < 1` for every `Re z < 0` (A-stability), and the
-//! eigenvalues of `J` are in the open left half-plane whenever τ, p, ki > 0 (gloop), so the
+//! eigenvalues of `J` are in the open left half-plane whenever τ, p, ki > 0 (inner_loop), so the
 //! spectral radius is below 1 for every Δt: there is no critical step. The price of A- but
 //! not L-stability is `R(z) → 1` as `z → −∞`: very stiff modes (far beyond this loop's) would be
 //! damped slowly rather than wrongly.
@@ -19,7 +19,7 @@
 //! This module computes `R` independently of the core (nalgebra, from `J`); the tests check
 //! that the core's update is exactly this map.
 
-use super::gloop::Loop;
+use super::inner_loop::Loop;
 use maglev_core::levitation::accurate;
 use maglev_core::Params;
 use nalgebra::Matrix2;

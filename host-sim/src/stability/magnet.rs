@@ -1,7 +1,7 @@
 //! One magnet's law, linearised, as rows of a closed-loop state matrix: the one place the
 //! analyses write Eq. 9–10 (with the gap loop's reference) in continuous time.
 //!
-//! Per unit (`x = g/g0 − 1`, `y = KI·e_a/(R0·i0) − 1`, `η = h/h0 − 1`, [`super::gloop`]), with
+//! Per unit (`x = g/g0 − 1`, `y = KI·e_a/(R0·i0) − 1`, `η = h/h0 − 1`, [`super::inner_loop`]), with
 //! the reference `x_ref` of the outer gap loop (`maglev_core::gap_control`, Eq. 8 with
 //! `e = g_ref − g`) and the outer loop's derivative filter state `q`:
 //!
@@ -15,7 +15,7 @@
 //! `maglev_core::gap` geometry). The magnet's force change is `ΔG = 2·p0·x` (Eq. 1 linearised,
 //! `G = p0·(1 + x)²`), which the caller adds to its force rows.
 
-use super::gloop::Loop;
+use super::inner_loop::Loop;
 use maglev_core::gap_control::GapParams;
 use maglev_core::law::state::StateParams;
 use maglev_core::Params;

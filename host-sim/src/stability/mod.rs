@@ -7,7 +7,7 @@
 //! checked against an eigenvalue computation (nalgebra) and, in the tests, against the core
 //! itself.
 //!
-//! * [`gloop`]: the g-loop at fixed gap, continuous (Eq. 9 + 10): `τ s² + (1 + kpv) s + ki = 0`.
+//! * [`inner_loop`]: the g-loop at fixed gap, continuous (Eq. 9 + 10): `τ s² + (1 + kpv) s + ki = 0`.
 //! * [`discrete`]: Eq. 14 over one sub-step as an exact 2×2 map of `(x, y)` at fixed gap; its
 //!   spectral radius and the critical time step.
 //! * [`gauss`]: the accurate scheme at fixed gap — the (2, 2) Padé map, stable for every step.
@@ -22,7 +22,7 @@ pub mod discrete;
 pub mod eig;
 pub mod gap_loop;
 pub mod gauss;
-pub mod gloop;
+pub mod inner_loop;
 pub mod magnet;
 pub mod margins;
 pub mod numerics;

@@ -2,7 +2,7 @@
 //! `n_sub` times per outer step) converges, per interpolation and per number type.
 //!
 //! Why: the paper recommends n_sub = 1000 without saying what it buys. At a fixed gap Eq. 14
-//! is a consistent one-step method for Eq. 9 + 10 (see [`super::gloop`]); this study measures
+//! is a consistent one-step method for Eq. 9 + 10 (see [`super::inner_loop`]); this study measures
 //! its error against a converged solution on the canned traces, the observed order, and where
 //! fixed point stops carrying the sub-step increments. Everything runs through the core via
 //! `control::run_trace_as` (the same path as `maglev control`).

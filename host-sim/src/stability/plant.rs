@@ -11,7 +11,7 @@
 //!
 //! # Linearisation about the static equilibrium
 //! `∂F/∂g = 2·K0·g0 = 2·p0/g0`, i.e. `ΔF = 2·p0·x` per unit of `x`. The force depends on the
-//! gap only through the coil (Eq. 9): `τ·ẋ = y − η − p·x`, `ẏ = −ki·x` (see [`super::gloop`];
+//! gap only through the coil (Eq. 9): `τ·ẋ = y − η − p·x`, `ẏ = −ki·x` (see [`super::inner_loop`];
 //! the rows are written once, in [`super::magnet`]).
 //!
 //! ```text
@@ -48,7 +48,7 @@
 //! The paper's vehicle therefore relies on the short passage time, not on the law, to keep
 //! the gap; a gap (position) loop would be needed for a free-flying vehicle.
 
-use super::gloop::Loop;
+use super::inner_loop::Loop;
 use super::magnet::{self, Slots};
 use super::Complex;
 use maglev_core::gap::Geometry;

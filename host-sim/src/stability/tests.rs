@@ -2,7 +2,7 @@
 //! verdicts against simulations of the core (`Params::compile::<f64>()` + `update`).
 
 use super::discrete::{self, critical_dt, critical_dt_bisect, spectral_radius, Step};
-use super::gloop::Loop;
+use super::inner_loop::Loop;
 use super::plant::{rigid_growth_rate, Plant, Suspension};
 use maglev_core::gap::Geometry;
 use maglev_core::{Params, State, Status};

@@ -35,7 +35,7 @@
 //! verdict. Under the gap loop the equilibrium needs `x_ref = x = 0`, i.e. `η = 0`: no zero
 //! pole.
 
-use super::gloop::Loop;
+use super::inner_loop::Loop;
 use super::magnet::{self, Slots};
 use super::Complex;
 use crate::vehicle::{Fig1, VehicleModel};

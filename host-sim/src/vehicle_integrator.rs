@@ -6,10 +6,10 @@
 //!
 //! The step is linear in the load: `u₁ = Keff⁻¹ (r + f)` with `r` the load-free right-hand
 //! side from the committed state (Eq. 19). So the load-free response `Keff⁻¹ r` is solved
-//! once per step (on the first [`Newmark::solve`] after a commit) and each further
+//! once per step (on the first [`VehicleIntegrator::solve`] after a commit) and each further
 //! Newton–Raphson iteration only adds `Keff⁻¹ f` from the precomputed columns of `Keff⁻¹` at
 //! the loaded DOFs (the wheels and contacts: a few columns of n entries); velocity and
-//! acceleration are completed once, on [`Newmark::commit`]. Against one full step per
+//! acceleration are completed once, on [`VehicleIntegrator::commit`]. Against one full step per
 //! iteration this reorders sums only: round-off (test `split_step_matches_the_full_step`).
 //!
 //! The load-free response itself is [`FreeStep`]: the integrator's own operations
@@ -153,7 +153,7 @@ impl FreeStep {
 }
 
 /// `M ü + C u̇ + K u = f` with a fixed step, committed and trial states.
-pub struct Newmark {
+pub struct VehicleIntegrator {
     integrator: Integrator,
     committed: State,
     trial: State,
@@ -166,7 +166,7 @@ pub struct Newmark {
     solved: bool,
 }
 
-impl Newmark {
+impl VehicleIntegrator {
     /// Starts at rest (a system written in deviations from its static equilibrium).
     pub fn new(m: DMatrix<f64>, c: DMatrix<f64>, k: DMatrix<f64>, dt: f64) -> Result<Self> {
         let n = m.nrows();
@@ -191,7 +191,7 @@ impl Newmark {
             flex.extend_from_slice(scratch.d.as_slice());
             unit[j] = 0.0;
         }
-        Ok(Newmark {
+        Ok(VehicleIntegrator {
             integrator,
             committed: State::zeros(n),
             trial: State::zeros(n),
@@ -222,12 +222,12 @@ impl Newmark {
         &self.committed.a
     }
 
-    /// Trial displacement at t + dt (valid after [`Newmark::solve`]).
+    /// Trial displacement at t + dt (valid after [`VehicleIntegrator::solve`]).
     pub fn u1(&self) -> &DVector<f64> {
         &self.trial.d
     }
 
-    /// Trial acceleration of DOF `i` at t + dt (valid after [`Newmark::solve`]; Eq. 19, as
+    /// Trial acceleration of DOF `i` at t + dt (valid after [`VehicleIntegrator::solve`]; Eq. 19, as
     /// the commit completes it).
     pub fn a1(&self, i: usize) -> f64 {
         let c = &self.committed;
@@ -322,7 +322,7 @@ mod tests {
         }
         k[(0, 0)] += 5e5;
         let full = Integrator::with_damping_matrix(&k, &m, Some(c.clone()), dt).unwrap();
-        let mut split = Newmark::new(m, c, k, dt).unwrap();
+        let mut split = VehicleIntegrator::new(m, c, k, dt).unwrap();
         let (mut committed, mut trial) = (State::zeros(n), State::zeros(n));
         let mut f = DVector::zeros(n);
         let mut seed = 0x2545_F491_4F6C_DD1D_u64;
@@ -430,7 +430,7 @@ mod tests {
         // u_n = sin(ω̄ t_n)/ω exactly (up to round-off).
         let w = 2.0 * std::f64::consts::PI;
         let dt = 1e-3;
-        let mut s = Newmark::new(
+        let mut s = VehicleIntegrator::new(
             DMatrix::from_element(1, 1, 1.0),
             DMatrix::zeros(1, 1),
             DMatrix::from_element(1, 1, w * w),
@@ -461,7 +461,7 @@ mod tests {
         // u̇ = F/c. The trapezoidal rule starts from v(0) = 0, so the first step gains only
         // ½·Δt·F/c and every later step exactly Δt·F/c: u_n = (n − ½)·Δt·F/c.
         let c = 10.0;
-        let mut s = Newmark::new(
+        let mut s = VehicleIntegrator::new(
             DMatrix::zeros(1, 1),
             DMatrix::from_element(1, 1, c),
             DMatrix::zeros(1, 1),
