@@ -200,7 +200,7 @@ pub enum Controllers<'a> {
 }
 
 /// A finished passage.
-pub struct Run {
+pub struct FinishedPassage {
     pub outcome: Outcome,
     /// The firmware's events (empty for the core's controllers).
     pub events: Vec<EventRecord>,
@@ -215,7 +215,7 @@ pub fn simulate(
     controllers: Controllers,
     rec: &mut dyn Recorder,
     progress: impl FnMut(f64),
-) -> Result<Run> {
+) -> Result<FinishedPassage> {
     let mut p = Passage::new(case)?;
     case.probes.check_guideway(&p.guideway)?;
     let start = Instant::now();
@@ -253,7 +253,7 @@ pub fn simulate(
             (run, magnets.events)
         }
     };
-    Ok(Run {
+    Ok(FinishedPassage {
         outcome,
         events,
         wall: start.elapsed().as_secs_f64(),

@@ -62,7 +62,7 @@ pub struct Comparison {
 }
 
 /// One run's histories.
-pub struct Run {
+pub struct RunHistories {
     /// Its histories: the default columns (midspan and wheel 1), one row per step.
     rows: Rows,
     /// Mean and largest Newton–Raphson iterations per step.
@@ -74,7 +74,7 @@ pub struct Run {
     wall: f64,
 }
 
-fn run(base: &Case, changes: Changes) -> Result<Run> {
+fn run(base: &Case, changes: Changes) -> Result<RunHistories> {
     let case = crate::design::with(base, &changes)?;
     let mut rows = Rows::new(Probes::default_columns());
     let r = simulate(&case, Controllers::Core, &mut rows, |_| {})?;
@@ -85,7 +85,7 @@ fn run(base: &Case, changes: Changes) -> Result<Run> {
             o.unconverged_steps
         )));
     }
-    Ok(Run {
+    Ok(RunHistories {
         gaps: gap_ranges(&o.gap_ranges),
         collision_steps: o.collision_steps,
         rows,
@@ -104,7 +104,7 @@ fn worst_gap<'a>(gaps: impl Iterator<Item = &'a GapRange>, h0: f64) -> Option<Ga
     .cloned()
 }
 
-fn fe(base: &Case, speed: f64, elements: usize, dt: f64) -> Result<(Run, u32)> {
+fn fe(base: &Case, speed: f64, elements: usize, dt: f64) -> Result<(RunHistories, u32)> {
     let nsub = ((dt / 1e-6).round() as u32).max(1);
     let r = run(
         base,
@@ -120,7 +120,7 @@ fn fe(base: &Case, speed: f64, elements: usize, dt: f64) -> Result<(Run, u32)> {
     Ok((r, nsub))
 }
 
-fn modal(base: &Case, speed: f64) -> Result<Run> {
+fn modal(base: &Case, speed: f64) -> Result<RunHistories> {
     run(
         base,
         Changes {
@@ -134,7 +134,7 @@ fn modal(base: &Case, speed: f64) -> Result<Run> {
 }
 
 /// The history of default column `name` of run `r`.
-fn history(r: &Run, name: &str) -> Vec<f64> {
+fn history(r: &RunHistories, name: &str) -> Vec<f64> {
     r.rows
         .column(name)
         .expect("a validation run records the default columns")
@@ -151,7 +151,7 @@ fn at(t_ref: &[f64], y_ref: &[f64], t: f64) -> f64 {
 
 /// Peak of the reference's history `name` and the largest difference of the run's over the
 /// whole history relative to it.
-fn max_rel_diff(run: &Run, reference: &Run, name: &str) -> (f64, f64) {
+fn max_rel_diff(run: &RunHistories, reference: &RunHistories, name: &str) -> (f64, f64) {
     let (y, y_ref) = (history(run, name), history(reference, name));
     let peak = y_ref.iter().map(|v| v.abs()).fold(0.0, f64::max);
     let d = run
@@ -170,11 +170,11 @@ fn compare(
     speed: f64,
     elements: usize,
     dt: f64,
-    reference: &Run,
+    reference: &RunHistories,
     lim_mid: Option<f64>,
     lim_w1: Option<f64>,
     base: &Case,
-) -> Result<(Comparison, Run)> {
+) -> Result<(Comparison, RunHistories)> {
     let h0 = base.h0();
     let (r, nsub) = fe(base, speed, elements, dt)?;
     let (mp, md) = max_rel_diff(&r, reference, "midspan_z");
@@ -254,13 +254,13 @@ pub struct Outcome {
 /// A displacement history `name` (m) of the FE `runs` against the modal `reference`, in mm.
 fn plot_of(
     title: &str,
-    reference: &Run,
-    runs: &[(String, &Run)],
+    reference: &RunHistories,
+    runs: &[(String, &RunHistories)],
     name: &str,
     ylabel: &str,
 ) -> Plot {
-    let t = |r: &Run| r.rows.t.clone();
-    let mm = |r: &Run| history(r, name).iter().map(|v| v * 1e3).collect();
+    let t = |r: &RunHistories| r.rows.t.clone();
+    let mm = |r: &RunHistories| history(r, name).iter().map(|v| v * 1e3).collect();
     let mut series = vec![Series::new(
         "modal (Δt = 1e-5)",
         t(reference),
@@ -277,8 +277,8 @@ fn plot_of(
 fn figure(
     name: &str,
     title: &str,
-    reference: &Run,
-    runs: &[(String, &Run)],
+    reference: &RunHistories,
+    runs: &[(String, &RunHistories)],
     column: &str,
     ylabel: &str,
 ) -> crate::Result<(String, String)> {
@@ -367,7 +367,8 @@ pub fn validate(sets: &[String], scheme: Scheme, mut step: impl FnMut(String)) -
         comps.push(c);
         el_runs.push((format!("FE, {el} elements"), r));
     }
-    let el_refs: Vec<(String, &Run)> = el_runs.iter().map(|(l, r)| (l.clone(), r)).collect();
+    let el_refs: Vec<(String, &RunHistories)> =
+        el_runs.iter().map(|(l, r)| (l.clone(), r)).collect();
     figs.push(figure(
         "fig3",
         &format!(
@@ -393,7 +394,8 @@ pub fn validate(sets: &[String], scheme: Scheme, mut step: impl FnMut(String)) -
         comps.push(c);
         dt_runs.push((format!("FE, Δt = {dt} s"), r));
     }
-    let dt_refs: Vec<(String, &Run)> = dt_runs.iter().map(|(l, r)| (l.clone(), r)).collect();
+    let dt_refs: Vec<(String, &RunHistories)> =
+        dt_runs.iter().map(|(l, r)| (l.clone(), r)).collect();
     figs.push(figure(
         "fig4",
         &format!(

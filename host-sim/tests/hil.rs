@@ -12,7 +12,7 @@ use maglev_host_sim::hil::compare;
 use maglev_host_sim::hil::link::{serve, InProc, Link, LinkFaults, StreamLink};
 use maglev_host_sim::hil::HilSettings;
 use maglev_host_sim::probes::Rows;
-use maglev_host_sim::setup::{simulate, Controllers, Run as HilOutcome};
+use maglev_host_sim::setup::{simulate, Controllers, FinishedPassage as HilOutcome};
 use std::os::unix::net::UnixStream;
 use std::time::Duration;
 

@@ -7,7 +7,7 @@ use crate::hil::link::{InProc, Link, LinkFaults, LinkStats, StreamLink};
 use crate::hil::{HilSettings, HIL_KEYS};
 use crate::output::{response_recorder, write_run, Columns, Staging, Summary};
 use crate::probes::Tee;
-use crate::setup::{simulate, Controllers, Run};
+use crate::setup::{simulate, Controllers, FinishedPassage};
 use crate::{Error, Result};
 use maglev_firmware_sim::supervision::Event;
 use serde::Serialize;
@@ -244,7 +244,7 @@ pub fn open_link(args: &Args, faults: LinkFaults) -> Result<Box<dyn Link>> {
     Ok(Box::new(link))
 }
 
-fn event_counts(out: &Run) -> (BTreeMap<String, usize>, Option<f64>) {
+fn event_counts(out: &FinishedPassage) -> (BTreeMap<String, usize>, Option<f64>) {
     let mut m = BTreeMap::new();
     let mut first = None;
     for e in &out.events {
@@ -260,7 +260,7 @@ fn event_counts(out: &Run) -> (BTreeMap<String, usize>, Option<f64>) {
     (m, first)
 }
 
-fn events_csv(out: &Run) -> String {
+fn events_csv(out: &FinishedPassage) -> String {
     let mut s = String::from("t,mode,events\n");
     for e in &out.events {
         let names: Vec<&str> = Event::NAMES
