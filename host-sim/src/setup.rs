@@ -11,7 +11,7 @@ use crate::guideway::{Guideway, PointLoad, PointMotion, SectionMotion};
 use crate::hil::coupling::{EventRecord, FirmwareMagnets};
 use crate::hil::link::Link;
 use crate::hil::HilSettings;
-use crate::modal::{ModalGuideway, ModalViaduct};
+use crate::modal::{ModalGuideway, ModalSpans};
 use crate::probes::Recorder;
 use crate::profile::Profile;
 use crate::scenario::Model;
@@ -54,7 +54,7 @@ pub enum AnyGuideway {
     Fe(FeGuideway),
     Modal(ModalGuideway),
     /// The modal reference over several simply supported spans, one series per span.
-    ModalSpans(ModalViaduct),
+    ModalSpans(ModalSpans),
     /// The viaduct on bearings, piers and footings (`bridge.kind = "viaduct"`).
     Viaduct(Viaduct),
     Rigid(RigidGuideway),
@@ -83,7 +83,7 @@ impl AnyGuideway {
                     .map_err(|e| Error::numerical(e.to_string()))?,
             ),
             (Model::Modal, None) => AnyGuideway::ModalSpans(
-                ModalViaduct::new(&case.bridge, case.modes, dt)
+                ModalSpans::new(&case.bridge, case.modes, dt)
                     .map_err(|e| Error::numerical(e.to_string()))?,
             ),
             (Model::Rigid, _) => AnyGuideway::Rigid(RigidGuideway::new(dt)),

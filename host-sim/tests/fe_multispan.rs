@@ -5,7 +5,7 @@
 
 use maglev_host_sim::fe::FeGuideway;
 use maglev_host_sim::guideway::{BeamSection, Bridge, Guideway, PointLoad};
-use maglev_host_sim::modal::{ModalViaduct, DEFAULT_MODES};
+use maglev_host_sim::modal::{ModalSpans, DEFAULT_MODES};
 use std::f64::consts::PI;
 
 const L: f64 = 25.0;
@@ -68,7 +68,7 @@ fn three_spans_fe_matches_modal_reference_and_closed_form() {
         spans: vec![L; SPANS],
     };
     let fe = history(&mut FeGuideway::new(&bridge, 20, DT).unwrap());
-    let modal = history(&mut ModalViaduct::new(&bridge, DEFAULT_MODES, DT).unwrap());
+    let modal = history(&mut ModalSpans::new(&bridge, DEFAULT_MODES, DT).unwrap());
     let on_span = (L / V / DT).round() as usize;
     let mut peaks = Vec::new();
     for k in 0..SPANS {

@@ -10,15 +10,15 @@
 //! - [`modes`]: per-term mass/stiffness from the Galerkin projection, natural frequencies.
 //! - [`newmark`]: the per-term Newmark (γ = ½, β = ¼) stepper.
 //! - [`span`]: [`ModalGuideway`], the series on one span behind the `Guideway` trait;
-//! - [`viaduct`]: [`ModalViaduct`], one series per span of a line of simply supported spans.
+//! - [`spans`]: [`ModalSpans`], one series per span of a line of simply supported spans.
 pub mod mode_integrator;
 pub mod modes;
 pub mod span;
-pub mod viaduct;
+pub mod spans;
 
 pub use modes::{natural_frequencies, ModeFrequencies, PlaneProperties, TorsionProperties};
 pub use span::{ModalError, ModalGuideway};
-pub use viaduct::ModalViaduct;
+pub use spans::ModalSpans;
 
 /// Default number of series terms per field.
 ///

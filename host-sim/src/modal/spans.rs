@@ -1,4 +1,4 @@
-//! [`ModalViaduct`]: the modal reference over a line of simply supported spans.
+//! [`ModalSpans`]: the modal reference over a line of simply supported spans.
 //!
 //! Why it is exact per span: simply supported spans with their own end supports share no
 //! DOF, so each span is the single-span problem of Eq. 20 driven by the loads on it alone
@@ -10,7 +10,7 @@ use crate::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
 
 /// The modal reference for every span of a [`Bridge`] (see the module docs).
 #[derive(Clone, Debug)]
-pub struct ModalViaduct {
+pub struct ModalSpans {
     dt: f64,
     /// (X of the left support, the span's series).
     spans: Vec<(f64, ModalGuideway)>,
@@ -18,15 +18,15 @@ pub struct ModalViaduct {
     local: Vec<PointLoad>,
 }
 
-impl ModalViaduct {
+impl ModalSpans {
     /// `modes` series terms per field on every span, step `dt`.
     ///
     /// ```
     /// use maglev_host_sim::guideway::{BeamSection, Bridge, Guideway, PointLoad};
-    /// use maglev_host_sim::modal::ModalViaduct;
+    /// use maglev_host_sim::modal::ModalSpans;
     ///
     /// let bridge = Bridge { section: BeamSection::paper_4_2(), spans: vec![25.0, 30.0] };
-    /// let mut g = ModalViaduct::new(&bridge, 40, 1e-4).unwrap();
+    /// let mut g = ModalSpans::new(&bridge, 40, 1e-4).unwrap();
     /// g.solve_step(&[PointLoad { x: 40.0, fz: -1e5, ..Default::default() }]);
     /// g.commit();
     /// assert!(g.section_at(40.0).z < 0.0);
@@ -45,7 +45,7 @@ impl ModalViaduct {
             ));
             start += length;
         }
-        Ok(ModalViaduct {
+        Ok(ModalSpans {
             dt,
             spans,
             local: Vec::new(),
@@ -70,7 +70,7 @@ impl ModalViaduct {
     }
 }
 
-impl Guideway for ModalViaduct {
+impl Guideway for ModalSpans {
     fn time_step(&self) -> f64 {
         self.dt
     }
