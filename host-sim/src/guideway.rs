@@ -148,3 +148,31 @@ pub trait Guideway {
         None
     }
 }
+
+/// A guideway that never moves: `z_g = y_g = θ = 0` everywhere (`run.model = "rigid"`). The
+/// vehicle and its magnets alone over the irregular rail, the first thing a control engineer
+/// runs; the irregularity is still applied.
+#[derive(Clone, Debug)]
+pub struct RigidGuideway {
+    dt: f64,
+}
+
+impl RigidGuideway {
+    pub fn new(dt: f64) -> Self {
+        RigidGuideway { dt }
+    }
+}
+
+impl Guideway for RigidGuideway {
+    fn time_step(&self) -> f64 {
+        self.dt
+    }
+    fn solve_step(&mut self, _loads: &[PointLoad]) {}
+    fn motion_at(&self, _x: f64, _ey: f64, _ez: f64) -> PointMotion {
+        PointMotion::default()
+    }
+    fn section_at(&self, _x: f64) -> SectionMotion {
+        SectionMotion::default()
+    }
+    fn commit(&mut self) {}
+}

@@ -746,7 +746,7 @@ mod tests {
         let names: Vec<String> = (1..=n).map(|k| format!("wheel{k}.force_z")).collect();
         let probes = Probes::new(Some(&names), &e).unwrap();
         let mut rec = CsvRecorder::new(probes, Vec::new()).unwrap();
-        let g = crate::setup::RigidGuideway::new(1e-3);
+        let g = crate::guideway::RigidGuideway::new(1e-3);
         let points = vec![(0.0, 0.0, 0.0); n];
         let t = 0.1 + 0.2;
         let step = StepView {
@@ -803,7 +803,7 @@ mod tests {
             magnets: false,
         };
         let names = vec!["pier1.base.z".to_string(), "wheel1.force_z".to_string()];
-        let g = crate::setup::RigidGuideway::new(1e-3);
+        let g = crate::guideway::RigidGuideway::new(1e-3);
         let points = [(0.0, 0.0, 0.0)];
         for v in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1.5] {
             let forces = [v];
@@ -875,7 +875,7 @@ mod tests {
             sizes: Vec::new(),
         };
         let mut rec = CsvRecorder::new(probes, sink).unwrap();
-        let g = crate::setup::RigidGuideway::new(1e-3);
+        let g = crate::guideway::RigidGuideway::new(1e-3);
         let points = [(0.0, 0.0, 0.0)];
         let mut want = String::from("t,wheel1.force_z,iterations,collision\n");
         for k in 0..6000u32 {

@@ -9,10 +9,10 @@ use maglev_host_sim::cars::fig6::Fig6;
 use maglev_host_sim::cars::wheel_rail::WheelRail;
 use maglev_host_sim::fe::viaduct::{paper5_viaduct, Viaduct};
 use maglev_host_sim::fe::FeGuideway;
+use maglev_host_sim::guideway::RigidGuideway;
 use maglev_host_sim::guideway::{Bridge, Guideway};
 use maglev_host_sim::probes::{BodyQ, PierQ, Probe, Probes, Rows, SectionQ, WheelQ};
 use maglev_host_sim::profile::Profile;
-use maglev_host_sim::setup::RigidGuideway;
 use maglev_host_sim::simulation::{simulate, Load, Outcome, Profiles, Settings};
 use maglev_host_sim::vehicle::Train;
 
