@@ -61,7 +61,8 @@ impl Error {
     /// stays one line (the input fuzz target found a probe name with a newline in it).
     pub fn invalid(key: impl Into<String>, reason: impl Into<String>) -> Self {
         Error::Invalid {
-            key: one_line(key.into()),
+            // The key may echo what the user typed, which can be megabytes long.
+            key: one_line(excerpt(&key.into())),
             reason: one_line(reason.into()),
         }
     }
@@ -78,7 +79,7 @@ impl Error {
     /// ([`excerpt`]): it may quote the offending line, which can be megabytes long.
     pub fn parse(what: impl Into<String>, message: impl std::fmt::Display) -> Self {
         Error::Parse {
-            what: what.into(),
+            what: excerpt(&what.into()),
             message: excerpt(&message.to_string()),
         }
     }

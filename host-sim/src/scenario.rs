@@ -528,12 +528,28 @@ fn full_key(key: &str) -> &str {
         .map_or(key, |(_, f)| *f)
 }
 
+/// Most names a `--set` key joins by dots: one more than the deepest key today
+/// (`bridge.pier.height_m`), so a sub-table added later still fits. A deeper key is refused
+/// before any table is made: one of 60 000 names nested tables that deep and overflowed the
+/// stack when they were read (the input fuzz target's finding).
+pub const MAX_KEY_PARTS: usize = 4;
+
 fn apply_set(table: &mut toml::Table, set: &str) -> Result<()> {
     let (key, value) = set
         .split_once('=')
         .ok_or_else(|| Error::invalid(format!("--set `{set}`"), "expected key=value"))?;
     let key = key.trim();
     let full = full_key(key);
+    let parts = full.split('.').count();
+    if parts > MAX_KEY_PARTS || full.split('.').any(|p| p.trim().is_empty()) {
+        return Err(Error::invalid(
+            format!("--set {key}"),
+            format!(
+                "a key is at most {MAX_KEY_PARTS} names joined by dots (section.table.key), \
+                 none of them empty; got {parts}"
+            ),
+        ));
+    }
     let (section, field) = full.split_once('.').ok_or_else(|| {
         let shorts: Vec<&str> = SHORT_KEYS.iter().map(|(s, _)| *s).collect();
         Error::invalid(
@@ -604,6 +620,28 @@ mod tests {
         }
         let e = load("nonexistent-scenario", &[]).unwrap_err().to_string();
         assert!(e.contains("paper-4.2"), "{e}");
+    }
+
+    /// A key of 60 000 names once nested tables so deep that reading them overflowed the
+    /// stack (an abort, found by the input fuzz target); empty names made tables named "".
+    #[test]
+    fn deep_or_empty_keys_are_refused_in_one_short_line() {
+        let deep = format!("run.{}=1", vec!["a"; 60_000].join("."));
+        for set in [
+            deep.as_str(),
+            "run..dt_s=1",
+            "run.dt_s.=1",
+            "bridge.pier.a.b.c=1",
+        ] {
+            let e = load("paper-4.2", &[set.into()]).unwrap_err().to_string();
+            assert!(
+                e.starts_with("--set ") && e.contains("at most 4 names"),
+                "{e}"
+            );
+            assert!(!e.contains('\n') && e.len() < 400, "{}", e.len());
+        }
+        // The deepest keys there are still work.
+        load("paper-5", &["bridge.pier.height_m=12".into()]).unwrap();
     }
 
     /// A wrong value inside the tagged `[vehicle]` / `[train]` section is named by its key, as
