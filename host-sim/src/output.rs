@@ -64,6 +64,10 @@ pub struct Summary {
     /// Each magnet's coil over the run, in the order of `gaps`.
     pub coils: Vec<CoilSummary>,
     pub peaks: std::collections::BTreeMap<String, Option<Peak>>,
+    /// The ground receivers' overall levels and verdicts (docs/ground.md); only with
+    /// `[ground]`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ground: Option<serde_json::Value>,
 }
 
 /// One magnet's gap range over a run.
@@ -186,6 +190,7 @@ impl Summary {
             gaps,
             coils,
             peaks,
+            ground: None,
         }
     }
 }
