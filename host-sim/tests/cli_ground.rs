@@ -100,7 +100,7 @@ fn a_run_with_receivers_writes_ground_csv() {
         "--set",
         "ground.pier=2",
         "--set",
-        "output.probes=[\"pier2.base.az\"]",
+        "output.probes=[\"pier2.base.az\", \"ground2.vz\"]",
         "--out",
         dir.to_str().unwrap(),
     ]);
@@ -173,6 +173,15 @@ fn bad_receivers_are_refused() {
             "ground.pier",
         ),
         (vec!["ground.distances_m=[20.0]"], "ground"),
+        (
+            vec![
+                "ground.distances_m=[20.0]",
+                "ground.pier=2",
+                "output.probes=[\"ground2.vz\"]",
+            ],
+            "output.probes",
+        ),
+        (vec!["output.probes=[\"ground1.vz\"]"], "output.probes"),
     ] {
         let mut args = vec!["run", "paper-5", "--out", "/nonexistent/never"];
         for s in &sets {

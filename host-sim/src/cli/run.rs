@@ -5,7 +5,9 @@ use crate::case::Case;
 use crate::cli::progress::Progress;
 use crate::ground::receivers::{self, BaseForces};
 use crate::ground::{criteria, levels};
-use crate::output::{gap_ranges, response_recorder, write_run, Columns, Staging, Summary};
+use crate::output::{
+    fill_response_columns, gap_ranges, response_recorder, write_run, Columns, Staging, Summary,
+};
 use crate::probes::Tee;
 use crate::setup::{simulate, Controllers};
 use crate::simulation::Outcome;
@@ -92,7 +94,8 @@ pub fn ground_recorder(case: &Case) -> Option<BaseForces> {
 }
 
 /// ground.csv and ground-levels.csv of the case's receivers from the recorded base forces,
-/// and summary.json's `ground` section, returned (docs/ground.md).
+/// the `ground{N}.vz` probe columns filled into response.csv, and summary.json's `ground`
+/// section, returned (docs/ground.md).
 pub fn write_ground(
     out: &Staging,
     case: &Case,
@@ -111,6 +114,13 @@ pub fn write_ground(
         process_cpu_seconds() - cpu
     );
     out.put("ground.csv", &receivers::csv(&b.t, &vel))?;
+    let fills: Vec<(usize, &[f64])> = case
+        .probes
+        .ground_columns()
+        .into_iter()
+        .map(|(k, r)| (k, vel[r].as_slice()))
+        .collect();
+    fill_response_columns(out, &fills)?;
     // The records' spacing, as the receivers used it (`of_run` checked n ≥ 2).
     let dt = (b.t[b.t.len() - 1] - b.t[0]) / (b.t.len() - 1) as f64;
     let levels = vel
