@@ -41,12 +41,28 @@ pub struct TrainGround {
     pub peak: Vec<Vec<f64>>,
 }
 
-/// The receivers' velocities, levels and map of one run.
-pub fn analyse(run: &TrainRun) -> Result<TrainGround> {
-    let x20 = (PIER - 1) as f64 * run.span;
+/// The receivers' velocities, levels and map of each run (the same soil and viaduct: one
+/// table of the Green's function serves all, [`receivers::of_runs`]).
+pub fn analyse(runs: &[TrainRun]) -> Result<Vec<TrainGround>> {
+    let Some(first) = runs.first() else {
+        return Ok(Vec::new());
+    };
+    let points = receivers_of(first.span);
+    let bases: Vec<_> = runs.iter().map(|r| &r.base).collect();
+    let v = receivers::of_runs(&first.soil, first.span, &bases, &points.0)?;
+    runs.iter()
+        .zip(v)
+        .map(|(r, v)| train_ground(r, &points, v))
+        .collect()
+}
+
+/// The receivers: [`DISTANCES`] beside [`PIER`], then the map grid row by row; with the
+/// grid's x and y.
+fn receivers_of(span: f64) -> (Vec<[f64; 2]>, Vec<f64>, Vec<f64>) {
+    let x20 = (PIER - 1) as f64 * span;
     let mut points: Vec<[f64; 2]> = DISTANCES.iter().map(|&d| [x20, d]).collect();
     let (p0, p1) = MAP_PIERS;
-    let (xa, xb) = ((p0 - 1) as f64 * run.span, (p1 - 1) as f64 * run.span);
+    let (xa, xb) = ((p0 - 1) as f64 * span, (p1 - 1) as f64 * span);
     let nx = ((xb - xa) / MAP_STEP).round() as usize + 1;
     let ny = ((MAP_Y1 - MAP_Y0) / MAP_STEP).round() as usize + 1;
     let map_x: Vec<f64> = (0..nx).map(|i| xa + i as f64 * MAP_STEP).collect();
@@ -54,7 +70,16 @@ pub fn analyse(run: &TrainRun) -> Result<TrainGround> {
     for &y in &map_y {
         points.extend(map_x.iter().map(|&x| [x, y]));
     }
-    let v = receivers::of_run(&run.soil, run.span, &run.base, &points)?;
+    (points, map_x, map_y)
+}
+
+/// One run's levels and map from its receivers' velocities `v` (in [`receivers_of`]'s order).
+fn train_ground(
+    run: &TrainRun,
+    (_, map_x, map_y): &(Vec<[f64; 2]>, Vec<f64>, Vec<f64>),
+    v: Vec<Vec<f64>>,
+) -> Result<TrainGround> {
+    let nx = map_x.len();
     let levels = v[..DISTANCES.len()]
         .iter()
         .map(|v| levels::of_velocity(v, run.dt))
@@ -66,8 +91,8 @@ pub fn analyse(run: &TrainRun) -> Result<TrainGround> {
     Ok(TrainGround {
         train: run.train.clone(),
         levels,
-        map_x,
-        map_y,
+        map_x: map_x.clone(),
+        map_y: map_y.clone(),
         peak,
     })
 }

@@ -51,10 +51,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     out.put("fig8.svg", &paper5::figure(&maglev, &wheel_rail)?)?;
     let mut md = paper5::markdown(&runs, &maglev, &wheel_rail, &args.sets);
     let start = std::time::Instant::now();
-    let ground = runs
-        .iter()
-        .map(paper5_ground::analyse)
-        .collect::<crate::Result<Vec<_>>>()?;
+    let ground = paper5_ground::analyse(&runs)?;
     eprintln!(
         "maglev: report: ground section in {:.1} s wall",
         start.elapsed().as_secs_f64()
