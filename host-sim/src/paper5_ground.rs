@@ -141,7 +141,7 @@ pub fn figure(trains: &[TrainGround]) -> Result<String> {
     }
     plot::svg(
         &Plot::new(
-            &format!("Ground surface, beside pier {PIER}: overall maximum 1-s rms vertical velocity level"),
+            format!("Ground surface, beside pier {PIER}: overall maximum 1-s rms vertical velocity level"),
             "distance from the viaduct axis (m, log scale)",
             "level (VdB re 1 µin/s)",
             series,

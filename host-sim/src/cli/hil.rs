@@ -301,8 +301,7 @@ fn run_inner(args: Args) -> Result<()> {
                 "`{}`: maglev hil does not compute the ground; use maglev run",
                 case.probes.names[k]
             ),
-        )
-        .into());
+        ));
     }
     let out = Staging::new(&args.out)?;
     let mut rec = response_recorder(&out, case.probes.clone())?;
