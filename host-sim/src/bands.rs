@@ -477,7 +477,7 @@ fn demeaned_scaled(samples: &[f64]) -> Vec<f64> {
 
 /// `max_j (1/m) Σ_{i=j}^{j+m−1} y_i²` over complete windows, by prefix sums (relative rounding
 /// ≲ N·ε·(record mean square / window mean square), far below 0.001 dB for these records).
-fn max_running_mean_square(y: &[f64], m: usize) -> f64 {
+pub fn max_running_mean_square(y: &[f64], m: usize) -> f64 {
     let mut prefix = Vec::with_capacity(y.len() + 1);
     let mut acc = 0.0;
     prefix.push(0.0);

@@ -247,6 +247,7 @@ impl Case {
             .filter(|i| i.enabled)
             .map(|i| i.seed);
         let probes = probes(&sc, &bridge, &train)?;
+        probes.check_ground(ground.as_ref().map(Vec::len))?;
         Ok(Case {
             model: sc.run.model,
             speed,

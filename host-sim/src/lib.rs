@@ -17,6 +17,7 @@ pub mod input;
 pub mod modal;
 pub mod output;
 pub mod paper5;
+pub mod paper5_ground;
 pub mod plot;
 pub mod probes;
 pub mod profile;

@@ -64,6 +64,10 @@ pub struct Summary {
     /// Each magnet's coil over the run, in the order of `gaps`.
     pub coils: Vec<CoilSummary>,
     pub peaks: std::collections::BTreeMap<String, Option<Peak>>,
+    /// The ground receivers' overall levels and verdicts (docs/ground.md); only with
+    /// `[ground]`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ground: Option<serde_json::Value>,
 }
 
 /// One magnet's gap range over a run.
@@ -186,6 +190,7 @@ impl Summary {
             gaps,
             coils,
             peaks,
+            ground: None,
         }
     }
 }
@@ -285,6 +290,55 @@ pub fn response_recorder(
         Error::Io { source, .. } => Error::io(&p, source),
         e => e,
     })
+}
+
+/// Fills probe columns that are known only after the run (the `ground{N}.vz` probes,
+/// [`crate::probes::Probes::ground_columns`]) into the staged response.csv: `fills` pairs a
+/// probe's column among the probes (from 0; the file's column is one more, after `t`) with
+/// its values, one per data row. The rows are numbers only ([`crate::probes::CsvRecorder`]),
+/// so they are split at commas; the header is kept as it is.
+pub fn fill_response_columns(dir: &Staging, fills: &[(usize, &[f64])]) -> Result<()> {
+    if fills.is_empty() {
+        return Ok(());
+    }
+    let p = dir.path("response.csv");
+    let text = std::fs::read_to_string(&p).map_err(|e| Error::io(&p, e))?;
+    let mut lines = text.lines();
+    let mut out = Vec::with_capacity(text.len() + text.len() / 2);
+    out.extend_from_slice(lines.next().unwrap_or("").as_bytes());
+    out.push(b'\n');
+    let mut rows = 0;
+    for (j, line) in lines.enumerate() {
+        let mut cells: Vec<&str> = line.split(',').collect();
+        let mut cell = Vec::new();
+        let mut filled: Vec<(usize, String)> = Vec::with_capacity(fills.len());
+        for &(k, v) in fills {
+            let value = *v.get(j).ok_or_else(|| {
+                Error::numerical(format!(
+                    "internal: response.csv has more rows than the {} values of probe column {k}",
+                    v.len()
+                ))
+            })?;
+            cell.clear();
+            crate::probes::push_csv_f64(&mut cell, value);
+            filled.push((k + 1, String::from_utf8_lossy(&cell).into_owned()));
+        }
+        for (c, text) in &filled {
+            if let Some(slot) = cells.get_mut(*c) {
+                *slot = text.as_str();
+            }
+        }
+        out.extend_from_slice(cells.join(",").as_bytes());
+        out.push(b'\n');
+        rows += 1;
+    }
+    if let Some(&(k, v)) = fills.iter().find(|(_, v)| v.len() != rows) {
+        return Err(Error::numerical(format!(
+            "internal: probe column {k} has {} values for {rows} response.csv rows",
+            v.len()
+        )));
+    }
+    std::fs::write(&p, out).map_err(|e| Error::io(&p, e))
 }
 
 /// Writes `summary.json`, `profile.csv` and one SVG per history into the run's staging

@@ -9,8 +9,10 @@
 //! disagrees with the paper the report says so (docs/paper5.md explains the disagreements).
 
 use crate::bands::{self, Averaging, BandLevel, Level, Quantity};
+use crate::fe::soil::Soil;
+use crate::ground::receivers::BaseForces;
 use crate::plot::{self, Plot, Series};
-use crate::probes::Rows;
+use crate::probes::{Rows, Tee};
 use crate::setup::{simulate, Controllers};
 use crate::{Error, Result};
 use std::fmt::Write as _;
@@ -34,6 +36,11 @@ pub struct TrainRun {
     pub contact_loss_steps: usize,
     pub unconverged_steps: usize,
     pub wall: f64,
+    /// Every pier's vertical base force, for the ground section ([`crate::paper5_ground`]).
+    pub base: BaseForces,
+    /// The soil and the span length of the case (the ground section's half-space and piers).
+    pub soil: Soil,
+    pub span: f64,
 }
 
 /// One train's whole-record band levels (re 1e-6 m/s²) at the carriage and at the pier.
@@ -58,7 +65,20 @@ pub fn run_train(train: &str, sets: &[String], progress: impl FnMut(f64)) -> Res
     all.extend_from_slice(sets);
     let case = crate::design::load(SCENARIO, &all)?;
     let mut rows = Rows::new(case.probes.clone());
-    let run = simulate(&case, Controllers::Core, &mut rows, progress)?;
+    let (Some(v), Some(soil)) = (&case.viaduct, &case.soil) else {
+        return Err(Error::invalid(
+            "report paper-5",
+            "the case has no viaduct or no [soil]",
+        ));
+    };
+    let f = &v.foundation;
+    let mut base = BaseForces::new(v.spans + 1, f.stiffness[2], f.damping[2]);
+    let run = simulate(
+        &case,
+        Controllers::Core,
+        &mut Tee(&mut rows, &mut base),
+        progress,
+    )?;
     let column = |name: &str| {
         rows.column(name)
             .ok_or_else(|| Error::numerical(format!("internal: no column {name}")))
@@ -73,6 +93,9 @@ pub fn run_train(train: &str, sets: &[String], progress: impl FnMut(f64)) -> Res
         contact_loss_steps: run.outcome.contact_loss_steps,
         unconverged_steps: run.outcome.unconverged_steps,
         wall: run.wall,
+        base,
+        soil: *soil,
+        span: v.span_length,
     })
 }
 

@@ -586,5 +586,7 @@ fn decimal(v: f64) -> String {
     }
 }
 
+pub mod map;
+
 #[cfg(test)]
 mod tests;

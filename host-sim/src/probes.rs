@@ -19,6 +19,11 @@
 //! - `pier{K}.base.{z,az}`: the base (footing) of pier K (from 1, at x = 0) of a guideway with
 //!   piers ([`Guideway::pier_base`]), m and m/s². The case's extent does not know the piers:
 //!   [`Probes::check_guideway`] checks them against the guideway before the run.
+//! - `ground{N}.vz`: ground receiver N's vertical velocity (m/s, up; `[ground]`, docs/ground.md).
+//!   It is not known during the run: the soil's response is computed from the whole record of
+//!   pier forces afterwards, so the column streams empty and `maglev run` fills it in from
+//!   ground.csv once the run is over ([`Probes::ground_columns`]); a sweep, which reduces
+//!   rows as they stream, refuses it. The case checks N against its receivers.
 //!
 //! Today's default columns keep their names (`midspan_z` is `span1.midspan.z`, `wheel1_gap_z`
 //! is `wheel1.gap_z`, …). Every probe is checked against the case before the run starts.
@@ -92,6 +97,10 @@ pub enum Probe {
         pier: usize,
         q: PierQ,
     },
+    /// Ground receiver `receiver + 1`'s vertical velocity (filled in after the run).
+    Ground {
+        receiver: usize,
+    },
 }
 
 /// What the case offers to probe.
@@ -124,7 +133,8 @@ fn index(s: &str, prefix: &str, name: &str, limit: usize) -> Result<usize> {
 }
 
 /// The SI unit of a probe or history column by its quantity (the name's ending): rotations
-/// rad, accelerations m/s², forces N, everything else (displacements, gaps) m.
+/// rad, accelerations m/s², forces N, velocities (`.vz`) m/s, everything else
+/// (displacements, gaps) m.
 pub fn si_unit(name: &str) -> &'static str {
     if name.ends_with("rx") {
         "rad"
@@ -132,6 +142,8 @@ pub fn si_unit(name: &str) -> &'static str {
         "m/s²"
     } else if name.ends_with("force_z") {
         "N"
+    } else if name.ends_with(".vz") {
+        "m/s"
     } else {
         "m"
     }
@@ -152,7 +164,7 @@ pub fn parse(name: &str, e: &Extent) -> Result<Probe> {
     let parts: Vec<&str> = alias.split('.').collect();
     let bad = || {
         bad_probe(format!(
-            "unknown probe `{name}` (span{{K}}.midspan.{{y,z,rx}}, wheel{{N}}.{{y,z,gap_y,gap_z,force_z}}, car{{N}}.body.{{z,az}}, pier{{K}}.base.{{z,az}})"
+            "unknown probe `{name}` (span{{K}}.midspan.{{y,z,rx}}, wheel{{N}}.{{y,z,gap_y,gap_z,force_z}}, car{{N}}.body.{{z,az}}, pier{{K}}.base.{{z,az}}, ground{{N}}.vz)"
         ))
     };
     match parts.as_slice() {
@@ -209,6 +221,9 @@ pub fn parse(name: &str, e: &Extent) -> Result<Probe> {
                 q,
             })
         }
+        [g, "vz"] if g.starts_with("ground") => Ok(Probe::Ground {
+            receiver: index(g, "ground", name, usize::MAX)?,
+        }),
         _ => Err(bad()),
     }
 }
@@ -269,6 +284,42 @@ impl Probes {
             }
         }
         Ok(())
+    }
+
+    /// Checks the `ground{N}` probes against the case's `receivers` ground receivers (`None`:
+    /// no `[ground]`): one line naming the probe and the limit.
+    pub fn check_ground(&self, receivers: Option<usize>) -> Result<()> {
+        for (name, p) in self.names.iter().zip(&self.probes) {
+            if let Probe::Ground { receiver } = *p {
+                match receivers {
+                    None => {
+                        return Err(bad_probe(format!(
+                            "`{name}`: the case has no [ground] receivers"
+                        )))
+                    }
+                    Some(n) if receiver >= n => {
+                        return Err(bad_probe(format!(
+                            "`{name}`: the case has {n} ground receiver(s), so N is at most {n}"
+                        )))
+                    }
+                    _ => {}
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The columns (from 0, among the probes) of the `ground{N}` probes, with their
+    /// receivers (from 0).
+    pub fn ground_columns(&self) -> Vec<(usize, usize)> {
+        self.probes
+            .iter()
+            .enumerate()
+            .filter_map(|(k, p)| match *p {
+                Probe::Ground { receiver } => Some((k, receiver)),
+                _ => None,
+            })
+            .collect()
     }
 }
 
@@ -400,6 +451,8 @@ impl StepView<'_> {
                 },
                 None => return None,
             },
+            // Filled in after the run (module docs).
+            Probe::Ground { .. } => return None,
         })
     }
 }

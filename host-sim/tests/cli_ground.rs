@@ -100,7 +100,7 @@ fn a_run_with_receivers_writes_ground_csv() {
         "--set",
         "ground.pier=2",
         "--set",
-        "output.probes=[\"pier2.base.az\"]",
+        "output.probes=[\"pier2.base.az\", \"ground2.vz\"]",
         "--out",
         dir.to_str().unwrap(),
     ]);
@@ -120,6 +120,38 @@ fn a_run_with_receivers_writes_ground_csv() {
     assert!(rows.iter().flatten().all(|v| v.is_finite()));
     let peak = |c: usize| rows.iter().fold(0.0_f64, |m, r| m.max(r[c].abs()));
     assert!(peak(1) > peak(2) && peak(2) > peak(3) && peak(3) > 0.0);
+    // The levels: one row per band and receiver and an overall row each; summary.json's
+    // PPV is ground.csv's peak, the overall levels fall with distance.
+    let levels = std::fs::read_to_string(dir.join("ground-levels.csv")).unwrap();
+    let mut lines = levels.lines().filter(|l| !l.starts_with('#'));
+    assert_eq!(
+        lines.next(),
+        Some("receiver,centre_hz,max_1s_vdb,max_1s_db,record_vdb,record_db")
+    );
+    let overall: Vec<&str> = lines.filter(|l| l.contains(",overall,")).collect();
+    assert_eq!(overall.len(), 3);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let rec = summary["ground"]["receivers"].as_array().unwrap();
+    assert_eq!(rec.len(), 3);
+    let lv: Vec<f64> = rec
+        .iter()
+        .map(|r| r["overall_max_1s_vdb"].as_f64().unwrap())
+        .collect();
+    assert!(lv[0] > lv[1] && lv[1] > lv[2], "{lv:?}");
+    for (i, r) in rec.iter().enumerate() {
+        assert_eq!(r["name"], format!("ground{}.vz", i + 1));
+        assert_eq!(r["ppv_m_per_s"].as_f64().unwrap(), peak(i + 1));
+        let f = &r["fta_vdb"]["category_2"]["frequent"];
+        assert_eq!(f["criterion"].as_f64(), Some(72.0));
+        assert_eq!(f["exceeds"].as_bool(), Some(lv[i] > 72.0));
+        assert!(
+            r["din4150_3_m_per_s"]["type_3"]["criterion"]
+                .as_f64()
+                .unwrap()
+                >= 3e-3
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -141,6 +173,15 @@ fn bad_receivers_are_refused() {
             "ground.pier",
         ),
         (vec!["ground.distances_m=[20.0]"], "ground"),
+        (
+            vec![
+                "ground.distances_m=[20.0]",
+                "ground.pier=2",
+                "output.probes=[\"ground2.vz\"]",
+            ],
+            "output.probes",
+        ),
+        (vec!["output.probes=[\"ground1.vz\"]"], "output.probes"),
     ] {
         let mut args = vec!["run", "paper-5", "--out", "/nonexistent/never"];
         for s in &sets {

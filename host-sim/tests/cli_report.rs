@@ -25,8 +25,36 @@ fn report_levels_agree_with_an_independent_analyser() {
         "bands.csv",
         "history-maglev.csv",
         "history-wheel-rail.csv",
+        "ground-levels.csv",
+        "ground-levels.svg",
+        "ground-map-maglev.svg",
+        "ground-map-wheel-rail.svg",
     ] {
         assert!(out.join(f).is_file(), "missing {f}");
+    }
+    // The ground section: levels for both trains at the four distances, falling with
+    // distance, and the section's parts in report.md.
+    let ground = std::fs::read_to_string(out.join("ground-levels.csv")).unwrap();
+    for train in ["maglev", "wheel-rail"] {
+        let overall: Vec<f64> = ground
+            .lines()
+            .filter(|l| l.starts_with(&format!("{train},")) && l.contains(",overall,"))
+            .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
+            .collect();
+        assert_eq!(overall.len(), 4, "{train}");
+        assert!(
+            overall.windows(2).all(|w| w[0] > w[1]),
+            "{train}: {overall:?}"
+        );
+    }
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for part in [
+        "## Ground-borne vibration",
+        "### Verdicts",
+        "### What the comparison says",
+        "ground-map-maglev.svg",
+    ] {
+        assert!(md.contains(part), "report.md lacks {part}");
     }
     let bands = std::fs::read_to_string(out.join("bands.csv")).unwrap();
     let mut checked = 0;

@@ -166,6 +166,44 @@ fn static_limit_is_boussinesq_plus_the_radiation_term() {
     }
 }
 
+/// The in-phase (real) part of W against Boussinesq, 1 − ν, at k_s·r = 0.02. Expected error
+/// (derived from W = (1 − ν) − iκA·x + O(x²), κ = (1 + 2iξ)^(−1/2) ≈ 1 − iξ):
+/// Re W/(1 − ν) − 1 = A·x·Im κ/(1 − ν) + O(x²) ≈ −ξ·(A/(1 − ν))·x + O(x²), A/(1 − ν) ≈ 1.24
+/// for every ν here. So the first-order term leaves the real part alone only without
+/// damping: at ξ = 0.001 (the least the code takes) and 0.01 it is 2.5e-5 and 2.5e-4, and the
+/// real part is Boussinesq within 1e-3; at ξ = 0.05 it is 1.24e-3 by itself, and the real part
+/// is checked against Boussinesq plus that term's real part instead. The rest is second order:
+/// measured −2.9e-4 … −3.0e-4 at x = 0.02 for every ν and ξ, and a quarter of that at x = 0.01
+/// (checked within 10 %).
+#[test]
+fn in_phase_part_is_boussinesq_at_small_damping() {
+    for nu in NUS {
+        let a = radiation_a(nu);
+        for xi in [0.001, 0.01, 0.05] {
+            let x = 0.02;
+            let w = Green::new(nu, xi).unwrap().scaled(x);
+            let bare = w.re / (1.0 - nu) - 1.0;
+            let first = (C::new(0.0, -a * x) * kappa2(xi).sqrt()).re / (1.0 - nu);
+            println!(
+                "ν {nu:.3} ξ {xi}: Re W/(1 − ν) − 1 = {bare:.3e}, first-order term {first:.3e}, rest {:.3e}",
+                bare - first
+            );
+            if xi <= 0.01 {
+                assert!(bare.abs() < 1e-3, "ν {nu} ξ {xi}: {bare:e}");
+            } else {
+                assert!(
+                    bare.abs() > 1e-3,
+                    "ν {nu} ξ {xi}: the derivation says > 1e-3"
+                );
+            }
+            assert!(
+                (bare - first).abs() < 1e-3,
+                "ν {nu} ξ {xi}: {bare:e} vs {first:e}"
+            );
+        }
+    }
+}
+
 /// H0⁽²⁾(z) for large complex z: √(2/(πz)) e^{−i(z − π/4)} (P − iQ),
 /// P = 1 − 9/(128z²), Q = −1/(8z) + 75/(1024z³).
 fn hankel2_far(z: C) -> C {

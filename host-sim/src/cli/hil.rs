@@ -294,6 +294,15 @@ fn run_inner(args: Args) -> Result<()> {
         }
     }
     let case = crate::design::load(&args.scenario, &scenario_sets)?;
+    if let Some(&(k, _)) = case.probes.ground_columns().first() {
+        return Err(Error::invalid(
+            "output.probes",
+            format!(
+                "`{}`: maglev hil does not compute the ground; use maglev run",
+                case.probes.names[k]
+            ),
+        ));
+    }
     let out = Staging::new(&args.out)?;
     let mut rec = response_recorder(&out, case.probes.clone())?;
     let mut link = open_link(&args, faults)?;

@@ -1,10 +1,13 @@
 //! `maglev report paper-5 --out DIR [--set key=value]...`: runs both trains of the paper's
 //! §5 over the viaduct and writes report.md, fig8.svg, bands.csv and each train's histories
-//! (history-maglev.csv, history-wheel-rail.csv), through [`crate::paper5`].
+//! (history-maglev.csv, history-wheel-rail.csv), through [`crate::paper5`]; and the ground
+//! section (ground-levels.csv, ground-levels.svg, ground-map-{train}.svg, through
+//! [`crate::paper5_ground`]).
 
 use crate::cli::progress::Progress;
 use crate::output::Staging;
 use crate::paper5::{self, CARRIAGE, PIER, TRAINS};
+use crate::paper5_ground;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -46,7 +49,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     out.put("bands.csv", &paper5::bands_csv(&maglev, &wheel_rail))?;
     out.put("fig8.svg", &paper5::figure(&maglev, &wheel_rail)?)?;
-    let md = paper5::markdown(&runs, &maglev, &wheel_rail, &args.sets);
+    let mut md = paper5::markdown(&runs, &maglev, &wheel_rail, &args.sets);
+    let start = std::time::Instant::now();
+    let ground = paper5_ground::analyse(&runs)?;
+    eprintln!(
+        "maglev: report: ground section in {:.1} s wall",
+        start.elapsed().as_secs_f64()
+    );
+    out.put("ground-levels.csv", &paper5_ground::csv(&ground))?;
+    out.put("ground-levels.svg", &paper5_ground::figure(&ground)?)?;
+    for (g, r) in ground.iter().zip(&runs) {
+        out.put(
+            &format!("ground-map-{}.svg", g.train),
+            &paper5_ground::map_svg(g, r.span)?,
+        )?;
+    }
+    md.push_str(&paper5_ground::markdown(&ground));
     out.put("report.md", &md)?;
     out.finish()?;
     for s in paper5::statements(&maglev, &wheel_rail) {

@@ -4,7 +4,10 @@
 use crate::case::Case;
 use crate::cli::progress::Progress;
 use crate::ground::receivers::{self, BaseForces};
-use crate::output::{gap_ranges, response_recorder, write_run, Columns, Staging, Summary};
+use crate::ground::{criteria, levels};
+use crate::output::{
+    fill_response_columns, gap_ranges, response_recorder, write_run, Columns, Staging, Summary,
+};
 use crate::probes::Tee;
 use crate::setup::{simulate, Controllers};
 use crate::simulation::Outcome;
@@ -90,10 +93,16 @@ pub fn ground_recorder(case: &Case) -> Option<BaseForces> {
     Some(BaseForces::new(v.spans + 1, f.stiffness[2], f.damping[2]))
 }
 
-/// ground.csv of the case's receivers from the recorded base forces (docs/ground.md).
-pub fn write_ground(out: &Staging, case: &Case, b: &BaseForces) -> crate::Result<()> {
+/// ground.csv and ground-levels.csv of the case's receivers from the recorded base forces,
+/// the `ground{N}.vz` probe columns filled into response.csv, and summary.json's `ground`
+/// section, returned (docs/ground.md).
+pub fn write_ground(
+    out: &Staging,
+    case: &Case,
+    b: &BaseForces,
+) -> crate::Result<Option<serde_json::Value>> {
     let (Some(v), Some(soil), Some(g)) = (&case.viaduct, &case.soil, &case.ground) else {
-        return Ok(());
+        return Ok(None);
     };
     let (start, cpu) = (std::time::Instant::now(), process_cpu_seconds());
     let vel = receivers::of_run(soil, v.span_length, b, g)?;
@@ -104,7 +113,24 @@ pub fn write_ground(out: &Staging, case: &Case, b: &BaseForces) -> crate::Result
         start.elapsed().as_secs_f64(),
         process_cpu_seconds() - cpu
     );
-    out.put("ground.csv", &receivers::csv(&b.t, &vel))
+    out.put("ground.csv", &receivers::csv(&b.t, &vel))?;
+    let fills: Vec<(usize, &[f64])> = case
+        .probes
+        .ground_columns()
+        .into_iter()
+        .map(|(k, r)| (k, vel[r].as_slice()))
+        .collect();
+    fill_response_columns(out, &fills)?;
+    // The records' spacing, as the receivers used it (`of_run` checked n ≥ 2).
+    let dt = (b.t[b.t.len() - 1] - b.t[0]) / (b.t.len() - 1) as f64;
+    let levels = vel
+        .iter()
+        .map(|v| levels::of_velocity(v, dt))
+        .collect::<std::result::Result<Vec<_>, _>>()
+        .map_err(|e| Error::numerical(format!("ground levels: {e}")))?;
+    let names: Vec<String> = (1..=g.len()).map(|i| format!("ground{i}.vz")).collect();
+    out.put("ground-levels.csv", &levels::csv(&names, &levels))?;
+    Ok(Some(criteria::summary(&names, g, &levels)))
 }
 
 /// CPU seconds used by the whole process so far (all threads), for the ground step's report
@@ -139,13 +165,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     drop(bar);
     rec.finish()?;
-    if let Some(b) = &base {
-        write_ground(&out, &case, b)?;
-    }
+    let ground = match &base {
+        Some(b) => write_ground(&out, &case, b)?,
+        None => None,
+    };
     let (outcome, wall) = (run.outcome, run.wall);
     warn(&outcome);
     let columns = Columns::read(&out)?;
-    let summary = Summary::new(&args.scenario, &case, &outcome, wall, &columns);
+    let mut summary = Summary::new(&args.scenario, &case, &outcome, wall, &columns);
+    summary.ground = ground;
     write_run(&out, &outcome, &summary, &args.sets, &columns)?;
     out.finish()?;
     eprintln!(

@@ -8,7 +8,11 @@
 //!
 //! - [`green`]: the half-space Green's function (wavenumber integral, its numerics);
 //! - [`bessel`]: J0 for it;
-//! - [`receivers`]: the pier-base forces of a run to the receivers' velocities (ground.csv).
+//! - [`receivers`]: the pier-base forces of a run to the receivers' velocities (ground.csv);
+//! - [`levels`]: a receiver's velocity levels (ground-levels.csv);
+//! - [`criteria`]: the FTA and DIN 4150-3 verdicts on them (summary.json `ground`).
 pub mod bessel;
+pub mod criteria;
 pub mod green;
+pub mod levels;
 pub mod receivers;

@@ -150,6 +150,36 @@ pub fn velocities(
     m: usize,
 ) -> Result<Vec<Vec<f64>>> {
     let green = Green::new(soil.poisson, soil.damping)?;
+    let table = Table::new(&green, x_max(soil, dt, piers, receivers, m))?;
+    velocities_in(&table, soil, dt, forces, piers, receivers, m)
+}
+
+/// The farthest pier–receiver distance (m).
+fn r_max(piers: &[[f64; 2]], receivers: &[[f64; 2]]) -> f64 {
+    receivers
+        .iter()
+        .flat_map(|q| piers.iter().map(move |p| (p[0] - q[0]).hypot(p[1] - q[1])))
+        .fold(0.0, f64::max)
+}
+
+/// The largest x = ωr/c_s the receivers need: the Nyquist bin of an `m`-point FFT at `dt`
+/// times the farthest distance.
+fn x_max(soil: &Soil, dt: f64, piers: &[[f64; 2]], receivers: &[[f64; 2]], m: usize) -> f64 {
+    let df = 1.0 / (m as f64 * dt);
+    2.0 * PI * (m / 2) as f64 * df * r_max(piers, receivers) / soil.shear_wave_velocity
+}
+
+/// [`velocities`] with the table of W given (one table serves every record that needs no
+/// larger x: its values do not depend on the record).
+fn velocities_in(
+    table: &Table,
+    soil: &Soil,
+    dt: f64,
+    forces: &[Vec<f64>],
+    piers: &[[f64; 2]],
+    receivers: &[[f64; 2]],
+    m: usize,
+) -> Result<Vec<Vec<f64>>> {
     let n = forces.first().map_or(0, Vec::len);
     if forces.len() != piers.len() || forces.iter().any(|f| f.len() != n) || n == 0 || m < n {
         return Err(Error::invalid(
@@ -158,14 +188,8 @@ pub fn velocities(
         ));
     }
     let dist = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]);
-    let r_max = receivers
-        .iter()
-        .flat_map(|q| piers.iter().map(move |p| dist(p, q)))
-        .fold(0.0, f64::max);
     let bins = m / 2 + 1;
     let df = 1.0 / (m as f64 * dt);
-    let x_max = 2.0 * PI * (bins - 1) as f64 * df * r_max / soil.shear_wave_velocity;
-    let table = Table::new(&green, x_max)?;
     let mu = complex_shear_modulus(soil);
     let mut planner = RealFftPlanner::<f64>::new();
     let fwd = planner.plan_fft_forward(m);
@@ -254,20 +278,41 @@ pub fn of_run(
     rec: &BaseForces,
     receivers: &[[f64; 2]],
 ) -> Result<Vec<Vec<f64>>> {
-    let piers: Vec<[f64; 2]> = (0..rec.piers).map(|k| [k as f64 * span, 0.0]).collect();
-    let n = rec.t.len();
-    if n < 2 {
-        return Err(Error::invalid(
-            "ground",
-            "the run recorded fewer than 2 steps",
-        ));
-    }
-    let dt = (rec.t[n - 1] - rec.t[0]) / (n - 1) as f64;
+    Ok(of_runs(soil, span, &[rec], receivers)?.remove(0))
+}
+
+/// [`of_run`] for several runs on the same soil and viaduct (the report's two trains), with
+/// one table of W for all: the same numbers as run by run, the table built once.
+pub fn of_runs(
+    soil: &Soil,
+    span: f64,
+    recs: &[&BaseForces],
+    receivers: &[[f64; 2]],
+) -> Result<Vec<Vec<Vec<f64>>>> {
     let green = Green::new(soil.poisson, soil.damping)?;
-    let r_max = receivers
+    let mut jobs = Vec::with_capacity(recs.len());
+    for rec in recs {
+        let piers: Vec<[f64; 2]> = (0..rec.piers).map(|k| [k as f64 * span, 0.0]).collect();
+        let n = rec.t.len();
+        if n < 2 {
+            return Err(Error::invalid(
+                "ground",
+                "the run recorded fewer than 2 steps",
+            ));
+        }
+        let dt = (rec.t[n - 1] - rec.t[0]) / (n - 1) as f64;
+        let m = padded_length(n, dt, r_max(&piers, receivers), soil, &green)?;
+        jobs.push((piers, dt, m));
+    }
+    let x = jobs
         .iter()
-        .flat_map(|q| piers.iter().map(move |p| (p[0] - q[0]).hypot(p[1] - q[1])))
+        .map(|(p, dt, m)| x_max(soil, *dt, p, receivers, *m))
         .fold(0.0, f64::max);
-    let m = padded_length(n, dt, r_max, soil, &green)?;
-    velocities(soil, dt, &rec.forces, &piers, receivers, m)
+    let table = Table::new(&green, x)?;
+    recs.iter()
+        .zip(&jobs)
+        .map(|(rec, (piers, dt, m))| {
+            velocities_in(&table, soil, *dt, &rec.forces, piers, receivers, *m)
+        })
+        .collect()
 }

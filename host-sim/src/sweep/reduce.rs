@@ -69,6 +69,16 @@ impl Reducer {
                     })
             })
             .collect::<Result<Vec<_>>>()?;
+        // A ground receiver's velocity exists only once the run is over (probes.rs).
+        if let Some(&(k, _)) = probes.ground_columns().first() {
+            return Err(Error::invalid(
+                "reduce.quantities",
+                format!(
+                    "`{}` is computed after the run from the whole record; a sweep reduces rows as they stream",
+                    probes.names[k]
+                ),
+            ));
+        }
         Ok(Reducer {
             probes: probes.probes.clone(),
             stats: vec![Stats::EMPTY; probes.probes.len()],
