@@ -50,7 +50,10 @@ fn sets(mass_t_per_m: f64, extra: &[String]) -> Vec<String> {
 
 /// Rayleigh ζ(ω) from the ratio at two frequencies (docs/scenarios.md `[bridge.damping]`).
 fn rayleigh_zeta(omega: f64) -> f64 {
-    let (w1, w2) = (2.0 * std::f64::consts::PI * 5.0, 2.0 * std::f64::consts::PI * 50.0);
+    let (w1, w2) = (
+        2.0 * std::f64::consts::PI * 5.0,
+        2.0 * std::f64::consts::PI * 50.0,
+    );
     let alpha = 2.0 * 0.02 * w1 * w2 / (w1 + w2);
     let beta = 2.0 * 0.02 / (w1 + w2);
     alpha / (2.0 * omega) + beta * omega / 2.0
@@ -134,11 +137,18 @@ impl Hand {
     }
 
     fn poles(&self) -> Vec<Complex<f64>> {
-        self.matrix().complex_eigenvalues().iter().copied().collect()
+        self.matrix()
+            .complex_eigenvalues()
+            .iter()
+            .copied()
+            .collect()
     }
 
     fn max_real_part(&self) -> f64 {
-        self.poles().iter().map(|p| p.re).fold(f64::NEG_INFINITY, f64::max)
+        self.poles()
+            .iter()
+            .map(|p| p.re)
+            .fold(f64::NEG_INFINITY, f64::max)
     }
 }
 
@@ -154,7 +164,10 @@ fn assert_same_poles(a: &[[f64; 2]], b: &[Complex<f64>], tol: f64) {
             .map(|(i, q)| (i, (q - p).norm()))
             .min_by(|x, y| x.1.total_cmp(&y.1))
             .unwrap();
-        assert!(d <= tol * p.norm().max(1.0), "pole {p} off by {d}: {left:?}");
+        assert!(
+            d <= tol * p.norm().max(1.0),
+            "pole {p} off by {d}: {left:?}"
+        );
         left.remove(i);
     }
 }
@@ -193,8 +206,16 @@ fn girder_modes_are_the_closed_form_beams() {
         // 20 elements: the FE's first frequency within 1e-4 (it is 3e-5 high), the modal mass
         // within 0.2 % (the FE shape between nodes, sampled for its peak), the value at a node
         // to rounding.
-        assert!((gm.frequency_hz / f1 - 1.0).abs() < 1e-4, "{} vs {f1}", gm.frequency_hz);
-        assert!((gm.modal_mass_kg / mm - 1.0).abs() < 2e-3, "{} vs {mm}", gm.modal_mass_kg);
+        assert!(
+            (gm.frequency_hz / f1 - 1.0).abs() < 1e-4,
+            "{} vs {f1}",
+            gm.frequency_hz
+        );
+        assert!(
+            (gm.modal_mass_kg / mm - 1.0).abs() < 2e-3,
+            "{} vs {mm}",
+            gm.modal_mass_kg
+        );
         assert!((gm.at_magnets[0] - (std::f64::consts::PI * x / l).sin()).abs() < 1e-9);
         assert!((gm.closed_form_hz / f1 - 1.0).abs() < 1e-9);
     }
@@ -257,7 +278,12 @@ fn envelope_rate(t: &[f64], x: &[f64], t0: f64, t1: f64) -> (f64, f64) {
     assert!(ext.len() >= 8, "too few extrema: {}", ext.len());
     let pts: Vec<(f64, f64)> = ext
         .windows(2)
-        .map(|w| (0.5 * (t[w[0]] + t[w[1]]), (0.5 * (x[w[0]] - x[w[1]]).abs()).ln()))
+        .map(|w| {
+            (
+                0.5 * (t[w[0]] + t[w[1]]),
+                (0.5 * (x[w[0]] - x[w[1]]).abs()).ln(),
+            )
+        })
         .collect();
     let n = pts.len() as f64;
     let (mt, my) = (
@@ -298,7 +324,13 @@ fn measured_decay_rates_match_the_predicted_max_real_part() {
             "{mass} t/m: predicted {:.4} ± {:.3}i, measured {rate:.4} at {omega:.3} rad/s",
             dominant[0], dominant[1]
         );
-        assert!((rate / dominant[0] - 1.0).abs() < 0.05, "{mass}: {rate} vs {dominant:?}");
-        assert!((omega / dominant[1].abs() - 1.0).abs() < 0.02, "{mass}: {omega}");
+        assert!(
+            (rate / dominant[0] - 1.0).abs() < 0.05,
+            "{mass}: {rate} vs {dominant:?}"
+        );
+        assert!(
+            (omega / dominant[1].abs() - 1.0).abs() < 0.02,
+            "{mass}: {omega}"
+        );
     }
 }

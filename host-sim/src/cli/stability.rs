@@ -341,5 +341,25 @@ pub fn scenario_table(r: &ScenarioReport) -> String {
             list(&g.guidance_loop_poles)
         );
     }
+    for m in r.girder_modes.iter().flatten() {
+        out += &format!(
+            "girder span {} mode {:<8}{:.4} Hz (closed form {:.4}), modal mass {:.1} kg, ζ {:.4}, at magnets {:?}\n",
+            m.span,
+            m.n,
+            m.frequency_hz,
+            m.closed_form_hz,
+            m.modal_mass_kg,
+            m.damping_ratio,
+            m.at_magnets
+        );
+    }
+    if let Some(c) = &r.coupled {
+        out += &format!(
+            "coupled max real part      {:.6} 1/s (min damping ratio {:.6}, {})\n",
+            c.max_real_part,
+            c.min_damping_ratio,
+            if c.stable { "stable" } else { "UNSTABLE" }
+        );
+    }
     out
 }

@@ -42,7 +42,10 @@ pub fn coupled(case: &Case, count: usize) -> crate::Result<Option<(Vec<GirderMod
     let (v, _, _) = vehicle_of(case)?;
     let modes = girder_modes(case, &v.wheels, count)?;
     let inner = case.controller.ok_or_else(|| {
-        crate::Error::invalid("controller", "the coupled analysis needs a [controller] section")
+        crate::Error::invalid(
+            "controller",
+            "the coupled analysis needs a [controller] section",
+        )
     })?;
     let plant = VehiclePlant::on_girder(&v, &inner, &case.law()?, case.geometry, &modes)?;
     let vd: Verdict = plant.verdict()?;
@@ -97,7 +100,7 @@ pub fn critical(
         let mut s = sets.to_vec();
         s.push(format!("{key}={x:?}"));
         let mut c = Case::load(name, &s)?;
-        c.law = base.law.clone();
+        c.law = base.law;
         match coupled(&c, count)? {
             Some((_, v)) => Ok(v.max_real_part),
             None => Err(crate::Error::invalid(

@@ -99,7 +99,9 @@ pub fn girder_modes(case: &Case, wheels: &[Wheel], count: usize) -> crate::Resul
                 .map(|i| z(&mode.shape, length * i as f64 / PEAK_SAMPLES as f64))
                 .fold(0.0, |p: f64, v| if v.abs() > p.abs() { v } else { p });
             if peak == 0.0 {
-                return Err(crate::Error::numerical("a girder mode with no vertical motion"));
+                return Err(crate::Error::numerical(
+                    "a girder mode with no vertical motion",
+                ));
             }
             let closed = crate::modal::natural_frequencies(&bridge.section, length, rank + 1)
                 .vertical[0]

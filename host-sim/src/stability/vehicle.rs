@@ -35,9 +35,9 @@
 //! verdict. Under the gap loop the equilibrium needs `x_ref = x = 0`, i.e. `η = 0`: no zero
 //! pole.
 
+use super::girder::GirderMode;
 use super::inner_loop::Loop;
 use super::magnet::{self, Slots};
-use super::girder::GirderMode;
 use super::Complex;
 use crate::vehicle::{Fig1, VehicleModel};
 use maglev_core::gap::{self, Geometry};
