@@ -40,6 +40,17 @@ pub struct Args {
     /// Override a scenario value (as for `maglev run`), with `--scenario`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
+    /// Vertical bending modes per span in the coupled analysis (`girder_modes`, with
+    /// `--scenario` on a flexible guideway at standstill).
+    #[arg(long = "girder-modes", default_value_t = crate::stability::coupled::GIRDER_MODES)]
+    pub girder_modes: usize,
+    /// With `--scenario`: find the value of this scenario key (e.g. `bridge.mass_t_per_m`)
+    /// in `--range` where the coupled model's max_real_part crosses zero.
+    #[arg(long, requires = "range", requires = "scenario")]
+    pub critical: Option<String>,
+    /// The search range of `--critical`: LO HI.
+    #[arg(long, num_args = 2, value_names = ["LO", "HI"], allow_negative_numbers = true)]
+    pub range: Option<Vec<f64>>,
     /// Print a study (Markdown) instead; the other flags are then ignored.
     #[arg(long, value_enum)]
     pub study: Option<Study>,
@@ -229,8 +240,22 @@ pub fn run(args: Args) -> crate::Result<()> {
     if let Some(Study::Numerics) = args.study {
         return print(&crate::stability::numerics::study(args.ref_nsub.max(1))?);
     }
+    if let (Some(name), Some(key), Some(range)) = (&args.scenario, &args.critical, &args.range) {
+        let r = crate::stability::coupled::critical(
+            name,
+            &args.sets,
+            key,
+            [range[0], range[1]],
+            args.girder_modes,
+        )?;
+        return print(
+            &(serde_json::to_string_pretty(&r)
+                .map_err(|e| crate::Error::numerical(e.to_string()))?
+                + "\n"),
+        );
+    }
     if let Some(name) = &args.scenario {
-        let r = scenario_report(name, &args.sets)?;
+        let r = scenario_report(name, &args.sets, args.girder_modes)?;
         let text = match args.format {
             Format::Json => {
                 serde_json::to_string_pretty(&r)
@@ -314,6 +339,26 @@ pub fn scenario_table(r: &ScenarioReport) -> String {
             g.design_delay_s,
             list(&g.levitation_loop_poles),
             list(&g.guidance_loop_poles)
+        );
+    }
+    for m in r.girder_modes.iter().flatten() {
+        out += &format!(
+            "girder span {} mode {:<8}{:.4} Hz (closed form {:.4}), modal mass {:.1} kg, ζ {:.4}, at magnets {:?}\n",
+            m.span,
+            m.n,
+            m.frequency_hz,
+            m.closed_form_hz,
+            m.modal_mass_kg,
+            m.damping_ratio,
+            m.at_magnets
+        );
+    }
+    if let Some(c) = &r.coupled {
+        out += &format!(
+            "coupled max real part      {:.6} 1/s (min damping ratio {:.6}, {})\n",
+            c.max_real_part,
+            c.min_damping_ratio,
+            if c.stable { "stable" } else { "UNSTABLE" }
         );
     }
     out

@@ -17,11 +17,13 @@
 //! Per-unit notation is the core's (`maglev_core::levitation`): `x = g/g0 − 1`,
 //! `y = KI·e_a/(R0·i0) − 1`, `η = h/h0 − 1`.
 
+pub mod coupled;
 pub mod design;
 pub mod discrete;
 pub mod eig;
 pub mod gap_loop;
 pub mod gauss;
+pub mod girder;
 pub mod inner_loop;
 pub mod magnet;
 pub mod margins;

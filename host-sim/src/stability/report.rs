@@ -4,6 +4,8 @@
 //! per-magnet loop poles.
 
 use crate::case::{Case, TrainCase};
+use crate::stability::coupled::{coupled, Coupled};
+use crate::stability::girder::GirderMode;
 use crate::stability::margins::{margins, Margins};
 use crate::stability::vehicle::VehiclePlant;
 use crate::stability::Complex;
@@ -78,12 +80,18 @@ pub struct ScenarioReport {
     pub delay_note: String,
     /// Each magnet's loop broken at its coil voltage, the others closed, the delay in series.
     pub margins: Vec<Margins>,
+    /// The flexible span's bending modes under the magnets (null on a rigid guideway,
+    /// [`crate::stability::girder`]).
+    pub girder_modes: Option<Vec<GirderMode>>,
+    /// The closed loop with those modes coupled at the magnets, the same gains
+    /// ([`crate::stability::coupled`]).
+    pub coupled: Option<Coupled>,
 }
 
 /// The vehicle of a case as a function of its magnet mass (kg), and that mass.
 type Builder = Box<dyn Fn(f64) -> crate::Result<VehicleModel>>;
 
-fn vehicle_of(case: &Case) -> crate::Result<(VehicleModel, f64, Builder)> {
+pub fn vehicle_of(case: &Case) -> crate::Result<(VehicleModel, f64, Builder)> {
     match &case.train {
         TrainCase::Fig1 { car, .. } => {
             let car = car.clone();
@@ -154,8 +162,13 @@ pub fn min_damping(poles: &[Complex]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// Computes the scenario report (no printing).
-pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioReport> {
+/// Computes the scenario report (no printing), with `girder_modes` bending modes per span
+/// in the coupled analysis.
+pub fn scenario_report(
+    name: &str,
+    sets: &[String],
+    girder_modes: usize,
+) -> crate::Result<ScenarioReport> {
     use crate::stability::gap_loop::GapLoopPlant;
     use crate::stability::vehicle::{critical_mass, ZERO_POLE};
     let case = crate::design::load(name, sets)?;
@@ -168,6 +181,7 @@ pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioRep
     };
     let law = case.law()?;
     let geometry = case.geometry;
+    let (girder, coupled) = coupled(&case, girder_modes)?.unzip();
     let plant = VehiclePlant::new(&v, &inner, &law, geometry)?;
     let vd = plant.verdict()?;
     let critical = critical_mass(magnet_mass, |m| {
@@ -258,5 +272,7 @@ pub fn scenario_report(name: &str, sets: &[String]) -> crate::Result<ScenarioRep
         stable: vd.stable,
         critical_magnet_mass_kg: critical,
         gap_loop,
+        girder_modes: girder,
+        coupled,
     })
 }

@@ -35,6 +35,7 @@
 //! verdict. Under the gap loop the equilibrium needs `x_ref = x = 0`, i.e. `η = 0`: no zero
 //! pole.
 
+use super::girder::GirderMode;
 use super::inner_loop::Loop;
 use super::magnet::{self, Slots};
 use super::Complex;
@@ -135,8 +136,33 @@ impl VehiclePlant {
         geometry: Geometry,
         delay: Option<f64>,
     ) -> crate::Result<Self> {
-        let n = v.m.nrows();
-        if v.m.ncols() != n || v.c.shape() != (n, n) || v.k.shape() != (n, n) {
+        Self::build(v, inner, law, geometry, delay, &[])
+    }
+
+    /// As [`VehiclePlant::new`], the levitation magnets over the flexible girder of `modes`
+    /// (module docs of [`super::girder`], eq. G1): one DOF `ξ_j` per mode after the
+    /// vehicle's, the gap `h = h0 ± (z_w − Σ φ_j·ξ_j)` (Eq. 2) and each magnet's force
+    /// change acting on its node and, opposite, on every mode (`−φ_j·2·p0·x`).
+    pub fn on_girder(
+        v: &VehicleModel,
+        inner: &Params,
+        law: &LawKind,
+        geometry: Geometry,
+        modes: &[GirderMode],
+    ) -> crate::Result<Self> {
+        Self::build(v, inner, law, geometry, None, modes)
+    }
+
+    fn build(
+        v: &VehicleModel,
+        inner: &Params,
+        law: &LawKind,
+        geometry: Geometry,
+        delay: Option<f64>,
+        girder: &[GirderMode],
+    ) -> crate::Result<Self> {
+        let nv = v.m.nrows();
+        if v.m.ncols() != nv || v.c.shape() != (nv, nv) || v.k.shape() != (nv, nv) {
             return Err(crate::Error::numerical(
                 "internal: vehicle matrices are not square and of one size",
             ));
@@ -146,20 +172,42 @@ impl VehiclePlant {
                 "internal: one static load per wheel expected",
             ));
         }
+        if girder.iter().any(|g| g.at_magnets.len() != v.wheels.len()) {
+            return Err(crate::Error::numerical(
+                "internal: one girder mode value per wheel expected",
+            ));
+        }
+        // The vehicle's matrices with one DOF per girder mode after its own (eq. G1).
+        let n = nv + girder.len();
+        let (mut vm, mut vc, mut vk) = (
+            DMatrix::zeros(n, n),
+            DMatrix::zeros(n, n),
+            DMatrix::zeros(n, n),
+        );
+        vm.view_mut((0, 0), (nv, nv)).copy_from(&v.m);
+        vc.view_mut((0, 0), (nv, nv)).copy_from(&v.c);
+        vk.view_mut((0, 0), (nv, nv)).copy_from(&v.k);
+        for (j, g) in girder.iter().enumerate() {
+            let (mj, w) = (g.modal_mass_kg, g.omega());
+            vm[(nv + j, nv + j)] = mj;
+            vc[(nv + j, nv + j)] = 2.0 * g.damping_ratio * w * mj;
+            vk[(nv + j, nv + j)] = mj * w * w;
+        }
+        let v_m = &vm;
         let massive: Vec<usize> = (0..n)
-            .filter(|&i| v.m.row(i).iter().any(|&x| x != 0.0))
+            .filter(|&i| v_m.row(i).iter().any(|&x| x != 0.0))
             .collect();
         let massless: Vec<usize> = (0..n).filter(|i| !massive.contains(i)).collect();
         if massless
             .iter()
-            .any(|&j| massive.iter().any(|&i| v.m[(i, j)] != 0.0))
+            .any(|&j| massive.iter().any(|&i| v_m[(i, j)] != 0.0))
         {
             return Err(crate::Error::numerical(
                 "internal: the mass matrix couples a massless DOF",
             ));
         }
         let (na, nz) = (massive.len(), massless.len());
-        let m_inv = sub(&v.m, &massive, &massive)
+        let m_inv = sub(v_m, &massive, &massive)
             .cholesky()
             .ok_or_else(|| {
                 crate::Error::numerical(
@@ -168,7 +216,7 @@ impl VehiclePlant {
             })?
             .inverse();
         let cz_inv = if nz > 0 {
-            sub(&v.c, &massless, &massless)
+            sub(&vc, &massless, &massless)
                 .try_inverse()
                 .ok_or_else(|| {
                     crate::Error::invalid(
@@ -243,24 +291,31 @@ impl VehiclePlant {
                 magnets.extend([("guideL", y, hl, dfy_dl), ("guideR", y, hr, dfy_dr)]);
             }
             for (k, (name, dof, dh, df)) in magnets.into_iter().enumerate() {
-                let (gap_dof, force_dof) = (dof, dof);
                 let at = slot(loops.len());
+                // The gap reads the node and (levitation) the girder under it (Eq. 2).
+                let mut gap_terms = vec![(dof, dh / h0)];
+                if k == 0 {
+                    for (j, g) in girder.iter().enumerate() {
+                        gap_terms.push((nv + j, -dh * g.at_magnets[w] / h0));
+                        f[(nv + j, at.x)] -= g.at_magnets[w] * 2.0 * p0;
+                    }
+                }
                 let dv = match state_law {
-                    None => magnet::write_rows(&mut a, at, &[(gap_dof, dh / h0)], &lp, gains)?,
+                    None => magnet::write_rows(&mut a, at, &gap_terms, &lp, gains)?,
                     Some(_) => {
-                        state_magnets.push((loops.len(), at, gap_dof, dh / h0, k == 0, p, lp));
+                        state_magnets.push((loops.len(), at, dof, gap_terms, k == 0, p, lp));
                         Vec::new()
                     }
                 };
                 loops.push(MagnetLoop {
                     name: format!("{name}{}", w + 1),
                     p0,
-                    mass: v.m[(dof, dof)],
+                    mass: v_m[(dof, dof)],
                     x: at.x,
                     tau: lp.tau,
                     dv,
                 });
-                f[(force_dof, at.x)] += df * 2.0 * p0;
+                f[(dof, at.x)] += df * 2.0 * p0;
                 states.push(format!("{name}{}.x", w + 1));
                 states.push(format!("{name}{}.y", w + 1));
                 if at.q.is_some() {
@@ -275,14 +330,14 @@ impl VehiclePlant {
         // Mechanical rows (module docs): q̇_a = v_a, q̇_z = C_zz⁻¹(f_z − K_z q − C_za v_a),
         // v̇_a = M_aa⁻¹(f_a − K_a q − C_aa v_a − C_az q̇_z).
         let mut kq = DMatrix::zeros(n, ns); // K·q as a map of the state
-        kq.columns_mut(0, n).copy_from(&v.k);
+        kq.columns_mut(0, n).copy_from(&vk);
         let mut cv = DMatrix::zeros(n, ns); // C restricted to the massive velocities
         for (ia, &i) in massive.iter().enumerate() {
-            cv.column_mut(n + ia).copy_from(&v.c.column(i));
+            cv.column_mut(n + ia).copy_from(&vc.column(i));
         }
         let rhs = &f - &kq - &cv; // f − K q − C_{·a} v_a, over every DOF
         let qz_dot = &cz_inv * sub(&rhs, &massless, &(0..ns).collect::<Vec<_>>());
-        let c_az = sub(&v.c, &massive, &massless);
+        let c_az = sub(&vc, &massive, &massless);
         let va_dot = &m_inv * (sub(&rhs, &massive, &(0..ns).collect::<Vec<_>>()) - &c_az * &qz_dot);
         for (ia, &i) in massive.iter().enumerate() {
             a[(i, n + ia)] = 1.0;
@@ -292,10 +347,14 @@ impl VehiclePlant {
             a.row_mut(i).copy_from(&qz_dot.row(iz));
         }
         if let Some(law) = state_law {
-            for (index, at, dof, deta, levitation, p, lp) in state_magnets {
-                let mut eta = vec![0.0; ns];
-                eta[dof] = deta;
-                let eta_rate: Vec<f64> = a.row(dof).iter().map(|v| deta * v).collect();
+            for (index, at, dof, gap_terms, levitation, p, lp) in state_magnets {
+                let (mut eta, mut eta_rate) = (vec![0.0; ns], vec![0.0; ns]);
+                for (j, c) in gap_terms {
+                    eta[j] += c;
+                    for (r, v) in eta_rate.iter_mut().zip(a.row(j).iter()) {
+                        *r += c * v;
+                    }
+                }
                 // The levitation magnet's accelerometer: the DOF's velocity row derivative.
                 let accel: Option<Vec<f64>> = match massive.iter().position(|&i| i == dof) {
                     Some(ia) if levitation => Some(a.row(n + ia).iter().copied().collect()),
