@@ -190,3 +190,36 @@ fn tempdir(name: &str) -> PathBuf {
     std::fs::create_dir_all(&d).unwrap();
     d
 }
+
+/// The rate a pty achieves on this machine (docs/hil.md, "Connect a board"): the §4.3
+/// passage (speed 100 m/s, 500 steps) over the pty cable, unpaced and with `--realtime` at
+/// 1 kHz. A measurement, not a check: it prints, and is run by hand with
+/// `cargo test -p maglev-host-sim --test hil_serial -- --ignored --nocapture pty_rate`.
+#[test]
+#[ignore = "a measurement; run by hand (docs/hil.md)"]
+fn pty_rate() {
+    let tmp = tempdir("rate");
+    let (fw_end, host_end) = cable();
+    let _fw = Firmware::serve(&fw_end.path);
+    let spec = format!("serial:{}", host_end.path.display());
+    for (label, extra) in [("unpaced", &[][..]), ("realtime", &["--realtime"][..])] {
+        let out = tmp.join(label);
+        let o = Command::new(MAGLEV)
+            .args(["hil", "paper-4.2", "--firmware", &spec, "--set", "speed=100"])
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        if !o.status.success() {
+            println!("{label}: {}", String::from_utf8_lossy(&o.stderr).trim());
+            continue;
+        }
+        let s: serde_json::Value = serde_json::from_slice(&read(&out, "summary.json")).unwrap();
+        println!(
+            "{label}: {} exchanges, {:.0}/s in the link, {:.0}/s of wall time; realtime {}",
+            s["link"]["exchanges"], s["exchanges_per_second"], s["exchanges_per_wall_second"],
+            s["realtime"]
+        );
+    }
+}
