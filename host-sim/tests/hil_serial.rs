@@ -160,11 +160,13 @@ fn realtime_on_a_link_too_slow_for_the_rate_fails_without_output() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     let last = err.lines().last().unwrap_or_default();
     assert!(
-        last.starts_with("maglev: error: --realtime: the link is too slow for 1000 Hz: "),
+        last.starts_with("maglev: error: --realtime: 1000 Hz not kept: 40 of 40 periods after"),
         "{err}"
     );
-    assert!(last.contains(" of 40 periods after the warm-up"), "{err}");
-    assert!(last.contains("it achieved "), "{err}");
+    assert!(
+        last.contains("; achieved ") && last.contains("latency median"),
+        "{err}"
+    );
     assert!(!out.exists(), "a partial output directory was left");
 }
 
@@ -192,8 +194,8 @@ fn tempdir(name: &str) -> PathBuf {
 }
 
 /// The rate a pty achieves on this machine (docs/hil.md, "Connect a board"): the §4.3
-/// passage (speed 100 m/s, 500 steps) over the pty cable, unpaced and with `--realtime` at
-/// 1 kHz. A measurement, not a check: it prints, and is run by hand with
+/// passage (speed 100 m/s, 500 steps of 1 ms) over the pty cable, unpaced and with
+/// `--realtime` at 1 kHz and at 500 Hz (Δt = 2 ms, 20 ticks per step). A measurement, not a check: it prints, and is run by hand with
 /// `cargo test -p maglev-host-sim --test hil_serial -- --ignored --nocapture pty_rate`.
 #[test]
 #[ignore = "a measurement; run by hand (docs/hil.md)"]
@@ -202,10 +204,22 @@ fn pty_rate() {
     let (fw_end, host_end) = cable();
     let _fw = Firmware::serve(&fw_end.path);
     let spec = format!("serial:{}", host_end.path.display());
-    for (label, extra) in [("unpaced", &[][..]), ("realtime", &["--realtime"][..])] {
-        let out = tmp.join(label);
+    let runs: [(&str, &[&str]); 3] = [
+        ("unpaced", &[]),
+        ("realtime 1 kHz", &["--realtime"]),
+        ("realtime 500 Hz", &["--realtime", "--set", "dt=0.002"]),
+    ];
+    for (label, extra) in runs {
+        let out = tmp.join(label.replace(' ', "-"));
         let o = Command::new(MAGLEV)
-            .args(["hil", "paper-4.2", "--firmware", &spec, "--set", "speed=100"])
+            .args([
+                "hil",
+                "paper-4.2",
+                "--firmware",
+                &spec,
+                "--set",
+                "speed=100",
+            ])
             .args(extra)
             .arg("--out")
             .arg(&out)
@@ -218,7 +232,9 @@ fn pty_rate() {
         let s: serde_json::Value = serde_json::from_slice(&read(&out, "summary.json")).unwrap();
         println!(
             "{label}: {} exchanges, {:.0}/s in the link, {:.0}/s of wall time; realtime {}",
-            s["link"]["exchanges"], s["exchanges_per_second"], s["exchanges_per_wall_second"],
+            s["link"]["exchanges"],
+            s["exchanges_per_second"],
+            s["exchanges_per_wall_second"],
             s["realtime"]
         );
     }

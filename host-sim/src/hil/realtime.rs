@@ -12,7 +12,8 @@
 //! caches, the port), more than [`MAX_MISS_FRACTION`] of the periods missing their deadline.
 //! Judged after each period once [`WINDOW`] periods follow the warm-up (so a slow link stops
 //! the run early) and at the end of the run; the run then fails with
-//! [`Error::Invalid`] on `--realtime`, naming the rate and what the link achieved.
+//! [`Error::Invalid`] on `--realtime`, naming the rate, what was achieved and the exchange
+//! latency (so the link's share of a period can be told from the plant's and the scheduler's).
 //!
 //! The clock is a [`Clock`], so the bookkeeping is tested with an injected one.
 
@@ -148,9 +149,10 @@ impl<'a, C: Clock> Paced<'a, C> {
             return Err(Error::invalid(
                 "--realtime",
                 format!(
-                    "the link is too slow for {:.0} Hz: {} of {} periods after the warm-up \
-                     missed their deadline ({TOO_SLOW}); it achieved {:.0} periods/s (exchange \
-                     latency median {:.3} ms, worst {:.3} ms)",
+                    "{:.0} Hz not kept: {} of {} periods after the warm-up missed their \
+                     deadline ({TOO_SLOW}); achieved {:.0} periods/s; exchange latency median \
+                     {:.3} ms, worst {:.3} ms (the rest of a period is the plant's work and the \
+                     scheduler's)",
                     s.rate_hz,
                     s.judged_misses,
                     s.judged_periods,
@@ -363,10 +365,10 @@ mod tests {
             Duration::from_millis(2 * (WARMUP + WINDOW))
         );
         assert!(
-            msg.starts_with("--realtime: the link is too slow for 1000 Hz: 100 of 100 periods"),
+            msg.starts_with("--realtime: 1000 Hz not kept: 100 of 100 periods after the warm-up"),
             "{msg}"
         );
-        assert!(msg.contains("it achieved 500 periods/s"), "{msg}");
+        assert!(msg.contains("achieved 500 periods/s;"), "{msg}");
         assert!(msg.contains("median 0.500 ms, worst 0.500 ms"), "{msg}");
         assert!(!msg.contains('\n'));
         // A short run that ends before the window is judged at its end.
