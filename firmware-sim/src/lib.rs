@@ -8,11 +8,13 @@
 //! * [`supervision`]: sensor checks and the fault reactions.
 //! * [`protocol`]: the framed wire format (postcard + CRC-32 + COBS, sequence numbers).
 //! * [`server`]: executes protocol requests on the firmware (step / commit / reply cache);
-//!   the same code runs in-process on the host, as a host process and in the QEMU image.
+//!   the same code runs in-process on the host, as a host process and in the QEMU image;
+//!   [`server::serve`] is the serial server loop of every byte-stream board.
+//! * `host_io` (host only): `std::io` streams as that loop's `embedded-io` port.
 //!
 //! Everything is `no_std` and allocation-free; see `docs/hil.md` for the timing model.
 
-#[cfg(test)]
+#[cfg(not(target_os = "none"))]
 extern crate std;
 
 pub use heapless;
@@ -27,3 +29,5 @@ pub mod supervision;
 pub mod validate;
 
 pub mod board;
+#[cfg(not(target_os = "none"))]
+pub mod host_io;

@@ -11,7 +11,8 @@
 //! * A frame that fails COBS, CRC or decoding is answered with `Nack(Corrupt)` (seq 0).
 //!
 //! Used as is by the host in-process, by the `maglev-firmware` host process, and by the QEMU
-//! image (feed it bytes with [`Server::push_byte`]).
+//! image (feed it bytes with [`Server::push_byte`]). [`serve`] is the loop every byte-stream
+//! board runs: a serial port (UART, USB CDC) behind the `embedded-io` traits.
 
 use crate::accel::AccelChip;
 use crate::adc::AdcChip;
@@ -268,5 +269,34 @@ impl Server {
             Err(_) => ([0u8; MAX_FRAME], 0),
         };
         Some(self.handle_frame(&frame.0[..frame.1], out))
+    }
+}
+
+/// The serial server loop of a board: reads what `port` has, feeds it to
+/// [`Server::push_byte`], writes each reply frame back and flushes after each read. Nothing
+/// else is written to the port. Board-agnostic: `port` is any `embedded-io` byte stream (the
+/// QEMU image's UART0, a board's UART or USB CDC driver, a host serial device or stdin/stdout
+/// in `maglev-firmware`).
+///
+/// Returns `Ok(())` when the port reports its end (a read of 0 bytes), the port's error
+/// otherwise. The control timer ([`Server::timer_tick`]) is the board's to drive, e.g. from
+/// its timer interrupt.
+pub fn serve<P: embedded_io::Read + embedded_io::Write>(
+    server: &mut Server,
+    port: &mut P,
+) -> Result<(), P::Error> {
+    let mut buf = [0u8; 64];
+    let mut frame = [0u8; MAX_FRAME];
+    loop {
+        let n = port.read(&mut buf)?;
+        if n == 0 {
+            return Ok(());
+        }
+        for &b in &buf[..n] {
+            if let Some(len) = server.push_byte(b, &mut frame) {
+                port.write_all(&frame[..len])?;
+            }
+        }
+        port.flush()?;
     }
 }

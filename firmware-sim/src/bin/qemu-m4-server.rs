@@ -1,7 +1,8 @@
 //! The wire protocol (`maglev_firmware_sim::server::Server`) served over UART0 of mps2-an386
 //! (`thumbv7em-none-eabihf`): the image of `maglev hil --firmware qemu` (the default
-//! `--qemu-link uart`). Every received byte goes to `Server::push_byte`, every reply frame
-//! back out; nothing else is ever written to the UART.
+//! `--qemu-link uart`). It runs the boards' serial loop (`maglev_firmware_sim::server::serve`)
+//! on UART0: every received byte goes to `Server::push_byte`, every reply frame back out;
+//! nothing else is ever written to the UART.
 //!
 //! The core sleeps in `wfi` between bytes (`CmsdkUart::uart0_wfi`) instead of spinning on the
 //! status register, so QEMU idles at no CPU cost while the host computes the plant. The link
@@ -16,19 +17,15 @@
 #[cfg(target_os = "none")]
 #[cortex_m_rt::entry]
 fn main() -> ! {
-    use embedded_io::Write as _;
     use maglev_firmware_sim::board::cmsdk_uart::CmsdkUart;
-    use maglev_firmware_sim::protocol::MAX_FRAME;
-    use maglev_firmware_sim::server::Server;
+    use maglev_firmware_sim::server::{serve, Server};
     // SAFETY: the only user of UART0 in this image, which has no interrupt handlers.
     let mut uart = unsafe { CmsdkUart::uart0_wfi() };
     let mut server = Server::new();
-    let mut frame = [0u8; MAX_FRAME];
+    // The boards' serial loop; the UART never fails and never ends.
+    let Ok(()) = serve(&mut server, &mut uart);
     loop {
-        let b = uart.read_byte();
-        if let Some(len) = server.push_byte(b, &mut frame) {
-            let _ = uart.write_all(&frame[..len]);
-        }
+        cortex_m::asm::wfi();
     }
 }
 

@@ -1,9 +1,11 @@
-//! `maglev hil SCENARIO --firmware inproc|process|qemu [--set key=value]... [--out DIR]
-//! [--compare]`: a passage with the levitation firmware as the controller.
+//! `maglev hil SCENARIO --firmware inproc|process|qemu|serial:PATH [--baud N] [--realtime]
+//! [--set key=value]... [--out DIR] [--compare]`: a passage with the levitation firmware as
+//! the controller.
 
 use crate::cli::progress::Progress;
 use crate::hil::compare::{compare, Comparison};
 use crate::hil::link::{InProc, Link, LinkFaults, LinkStats, StreamLink};
+use crate::hil::realtime::{Paced, RealtimeStats, WallClock};
 use crate::hil::{HilSettings, HIL_KEYS};
 use crate::output::{response_recorder, write_run, Columns, Staging, Summary};
 use crate::probes::Tee;
@@ -16,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub enum FirmwareMode {
     /// The firmware's server called directly (no bytes).
     Inproc,
@@ -24,6 +26,37 @@ pub enum FirmwareMode {
     Process,
     /// The QEMU image (mps2-an386, Cortex-M4) over its serial port.
     Qemu,
+    /// A serial device (a board's UART or USB CDC port, or a pty): `serial:PATH`.
+    Serial(String),
+}
+
+impl FirmwareMode {
+    /// The name in summary.json.
+    pub fn name(&self) -> &'static str {
+        match self {
+            FirmwareMode::Inproc => "inproc",
+            FirmwareMode::Process => "process",
+            FirmwareMode::Qemu => "qemu",
+            FirmwareMode::Serial(_) => "serial",
+        }
+    }
+}
+
+impl std::str::FromStr for FirmwareMode {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "inproc" => Ok(FirmwareMode::Inproc),
+            "process" => Ok(FirmwareMode::Process),
+            "qemu" => Ok(FirmwareMode::Qemu),
+            _ => match s.strip_prefix("serial:") {
+                Some(path) if !path.is_empty() => Ok(FirmwareMode::Serial(path.into())),
+                _ => Err(format!(
+                    "expected inproc, process, qemu or serial:PATH, got `{s}`"
+                )),
+            },
+        }
+    }
 }
 
 /// How the QEMU image talks to the host; the host sees QEMU's stdin/stdout either way.
@@ -51,8 +84,17 @@ impl QemuLink {
 pub struct Args {
     /// A scenario TOML file with a Fig. 1 vehicle, or a bundled name (paper-4.2).
     pub scenario: String,
-    #[arg(long, value_enum, default_value = "inproc")]
+    /// inproc, process, qemu, or serial:PATH (a serial device: a board, or a pty).
+    #[arg(long, default_value = "inproc", value_parser = clap::value_parser!(FirmwareMode))]
     pub firmware: FirmwareMode,
+    /// The baud rate of `--firmware serial:PATH` (8N1, raw).
+    #[arg(long, default_value_t = 115_200, value_parser = clap::value_parser!(u32).range(1..))]
+    pub baud: u32,
+    /// Pace each host step to the wall clock (one control period of Δt each); report deadline
+    /// misses and exchange latency in summary.json, and stop with an error when the link is
+    /// too slow for the rate (docs/hil.md, "Real time").
+    #[arg(long)]
+    pub realtime: bool,
     /// Scenario keys as for `maglev run`, plus firmware keys: rate, delay, scalar (i4f28|f32),
     /// adc_bits, adc_lsb, adc_offset, adc_noise (LSB rms), adc_seed, pwm_bits, v_dc,
     /// hold_ticks, stuck_ticks, ramp_ticks, fault=stuck|range|contact:CHANNEL@SECONDS,
@@ -105,6 +147,9 @@ pub struct HilSummary {
     /// Round trips per second of the whole run's wall time (plant included).
     pub exchanges_per_wall_second: f64,
     pub link: LinkStats,
+    /// The pacing figures of `--realtime`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub realtime: Option<RealtimeStats>,
     /// How many steps raised each event.
     pub events: BTreeMap<String, usize>,
     pub first_fault_s: Option<f64>,
@@ -190,12 +235,12 @@ pub fn qemu_command(qemu: &Path, image: &Path, link: QemuLink) -> Command {
 /// Opens the link of a mode: a link fault without bytes is `Invalid` on `--set link_fault`,
 /// a missing program or image and a failed start are [`Error::Firmware`].
 pub fn open_link(args: &Args, faults: LinkFaults) -> Result<Box<dyn Link>> {
-    let mut link = match args.firmware {
+    let mut link = match &args.firmware {
         FirmwareMode::Inproc => {
             if faults != LinkFaults::default() {
                 return Err(Error::invalid(
                     "--set link_fault",
-                    "needs --firmware process or qemu (in-process has no bytes)",
+                    "needs --firmware process, qemu or serial:PATH (in-process has no bytes)",
                 ));
             }
             return Ok(Box::new(InProc::default()));
@@ -237,6 +282,7 @@ pub fn open_link(args: &Args, faults: LinkFaults) -> Result<Box<dyn Link>> {
                 .unwrap_or_else(|| "qemu-system-arm".into());
             StreamLink::spawn(qemu_command(&qemu, &image, args.qemu_link))?
         }
+        FirmwareMode::Serial(path) => StreamLink::serial(path, args.baud)?,
     };
     link.timeout = Duration::from_millis(args.timeout_ms);
     link.max_retries = args.retries;
@@ -306,10 +352,16 @@ fn run_inner(args: Args) -> Result<()> {
     let out = Staging::new(&args.out)?;
     let mut rec = response_recorder(&out, case.probes.clone())?;
     let mut link = open_link(&args, faults)?;
+    let mut paced = None;
+    let link_used: &mut dyn Link = if args.realtime {
+        paced.insert(Paced::new(link.as_mut(), case.dt, WallClock::default()))
+    } else {
+        link.as_mut()
+    };
     let mut bar = Progress::run("hil");
     let firmware = Controllers::Firmware {
         settings: &hs,
-        link: link.as_mut(),
+        link: link_used,
     };
     // With --compare, the HIL run's compared histories are kept in memory too.
     let mut hil_rows = crate::hil::compare::recorder();
@@ -322,6 +374,7 @@ fn run_inner(args: Args) -> Result<()> {
     let wall = outcome.wall;
     drop(bar);
     rec.finish()?;
+    let realtime = paced.map(|p| p.finish()).transpose()?;
     let stats = link.stats();
     drop(link);
     let (events, first_fault_s) = event_counts(&outcome);
@@ -342,7 +395,7 @@ fn run_inner(args: Args) -> Result<()> {
     let columns = Columns::read(&out)?;
     let run = Summary::new(&args.scenario, &case, &outcome.outcome, wall, &columns);
     let summary = HilSummary {
-        firmware: format!("{:?}", args.firmware).to_lowercase(),
+        firmware: args.firmware.name().to_string(),
         qemu_link: (args.firmware == FirmwareMode::Qemu)
             .then(|| format!("{:?}", args.qemu_link).to_lowercase()),
         scalar: format!("{:?}", hs.scalar).to_lowercase(),
@@ -352,6 +405,7 @@ fn run_inner(args: Args) -> Result<()> {
         exchanges_per_second: stats.exchanges as f64 / stats.seconds.max(1e-12),
         exchanges_per_wall_second: stats.exchanges as f64 / wall.max(1e-12),
         link: stats,
+        realtime,
         events,
         first_fault_s,
         compare: cmp,

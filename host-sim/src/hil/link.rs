@@ -2,7 +2,7 @@
 //!
 //! [`InProc`] calls the firmware's [`Server`] directly (no bytes). [`StreamLink`] speaks the
 //! framed protocol over any byte stream (a child's stdin/stdout, a Unix socket, QEMU's
-//! serial port) and is where link faults are handled:
+//! serial port, a serial device: [`StreamLink::serial`]) and is where link faults are handled:
 //!
 //! * corrupted request → the firmware answers `Nack(Corrupt)` → retransmit;
 //! * corrupted reply (COBS/CRC/decode fails) → retransmit;
@@ -15,11 +15,12 @@
 //! each fault deterministically (by request number) for the tests.
 
 use crate::{Error, Result};
+use maglev_firmware_sim::host_io::StdPort;
 use maglev_firmware_sim::protocol::{
     self, Envelope, FrameReader, Nack, Request, Response, MAX_FRAME, VERSION,
 };
-use maglev_firmware_sim::server::Server;
-use std::io::{Read, Write};
+use maglev_firmware_sim::server::{self, Server};
+use std::io::{ErrorKind, Read, Write};
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
 use std::sync::{Arc, Mutex};
@@ -128,6 +129,10 @@ impl StreamLink {
             let mut buf = [0u8; 8192];
             loop {
                 let n = match reader.read(&mut buf) {
+                    // A serial port's read timeout, or a signal: nothing yet.
+                    Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::Interrupted) => {
+                        continue
+                    }
                     Ok(0) | Err(_) => return,
                     Ok(n) => n,
                 };
@@ -167,6 +172,19 @@ impl StreamLink {
         let mut link = StreamLink::new(stdout, stdin);
         link.child = Some(child);
         Ok(link)
+    }
+
+    /// Opens a serial device (a board's UART or USB CDC port, a pty) at `baud`, 8N1, raw
+    /// (no echo, no CR/LF translation), exclusive, with stale input discarded.
+    pub fn serial(path: &str, baud: u32) -> Result<Self> {
+        let fail = |e: serialport::Error| Error::Firmware(format!("serial port {path}: {e}"));
+        let port = serialport::new(path, baud)
+            .timeout(Duration::from_secs(1))
+            .open()
+            .map_err(fail)?;
+        port.clear(serialport::ClearBuffer::All).map_err(fail)?;
+        let writer = port.try_clone().map_err(fail)?;
+        Ok(StreamLink::new(port, writer))
     }
 
     fn send(&self, frame: &[u8], late: bool) -> Result<()> {
@@ -284,26 +302,10 @@ impl Drop for StreamLink {
     }
 }
 
-/// Serves the protocol over a byte stream until it closes: the host process's loop, for
-/// tests that run the firmware on a thread behind a socket.
-pub fn serve(mut input: impl Read, mut output: impl Write) {
+/// Serves the protocol over a byte stream until it closes or fails: the boards' serial loop
+/// ([`maglev_firmware_sim::server::serve`]), for tests that run the firmware on a thread
+/// behind a socket.
+pub fn serve(reader: impl Read, writer: impl Write) {
     let mut server = Box::new(Server::new());
-    let mut buf = [0u8; 8192];
-    let mut frame = Box::new([0u8; MAX_FRAME]);
-    loop {
-        let n = match input.read(&mut buf) {
-            Ok(0) | Err(_) => return,
-            Ok(n) => n,
-        };
-        for &b in &buf[..n] {
-            if let Some(len) = server.push_byte(b, &mut frame) {
-                if output.write_all(&frame[..len]).is_err() {
-                    return;
-                }
-            }
-        }
-        if output.flush().is_err() {
-            return;
-        }
-    }
+    let _ = server::serve(&mut server, &mut StdPort { reader, writer });
 }

@@ -1,7 +1,9 @@
 //! Hardware-in-the-loop: the firmware (`maglev-firmware-sim`) as the levitation controller
 //! of a passage, in lockstep with the plant.
 //!
-//! * [`link`]: how the host talks to the firmware (in-process, a host process, QEMU).
+//! * [`link`]: how the host talks to the firmware (in-process, a host process, QEMU, a
+//!   serial device).
+//! * [`realtime`]: pacing the exchanges to the wall clock (`--realtime`).
 //! * [`board`]: the physical side of its peripherals (gap → ADC codes, current → force).
 //! * [`coupling`]: the firmware as the magnets of the shared coupling loop
 //!   ([`crate::simulation::couple`]): `Step` per Newton iteration, `Commit` per step.
@@ -15,6 +17,7 @@ pub mod board;
 pub mod compare;
 pub mod coupling;
 pub mod link;
+pub mod realtime;
 
 use crate::{Error, Result};
 use board::SensorFault;
