@@ -87,12 +87,20 @@ impl AccelChip {
     }
 
     /// The output register pair's value at the configured range (0 in power-down).
+    ///
+    /// At ±16 g, the range the driver sets, the register is the sample itself: the rescale
+    /// `round(z·lsb/lsb)` returns `z` for every `i16` (two roundings of relative 2⁻⁵³ move it
+    /// by less than 32 768·2⁻⁵² ≪ ½; `tests::rescale_at_16g_is_the_sample`), so the chip
+    /// skips it. In QEMU this chip runs on the simulated MCU and its `f64` arithmetic, in
+    /// software there, would otherwise count in the firmware's tick (docs/hil.md).
     fn out_z(&self) -> i16 {
         if self.ctrl1 >> 5 != 0b101 {
             return 0;
         }
-        let g = self.z as f64 * LSB_G_16G;
-        libm::round(g / lsb_g(self.ctrl1)).clamp(i16::MIN as f64, i16::MAX as f64) as i16
+        if (self.ctrl1 >> 2) & 0b11 == 0b01 {
+            return self.z;
+        }
+        rescale(self.z, self.ctrl1)
     }
 
     fn reg_read(&self, addr: u8) -> u8 {
@@ -111,6 +119,12 @@ impl AccelChip {
             self.ctrl1 = v;
         }
     }
+}
+
+/// A sample at ±16 g (LSB) as the register reads at the range of `ctrl1`.
+fn rescale(z: i16, ctrl1: u8) -> i16 {
+    let g = z as f64 * LSB_G_16G;
+    libm::round(g / lsb_g(ctrl1)).clamp(i16::MIN as f64, i16::MAX as f64) as i16
 }
 
 impl ErrorType for AccelChip {
@@ -253,6 +267,17 @@ mod tests {
         // At ±2 g the same 15.99 g saturates.
         acc.device_mut().write(&[CTRL1_XL, 0xA0]).unwrap();
         assert_eq!(acc.read_z().unwrap(), i16::MAX);
+    }
+
+    /// The rescale that [`AccelChip::out_z`] skips at ±16 g is the identity on every code.
+    #[test]
+    fn rescale_at_16g_is_the_sample() {
+        for z in i16::MIN..=i16::MAX {
+            assert_eq!(rescale(z, CTRL1_ON_16G), z);
+        }
+        // and not at another range: ±2 g reads 8 times the LSB count, saturating.
+        assert_eq!(rescale(1000, 0xA0), 8000);
+        assert_eq!(rescale(5000, 0xA0), i16::MAX);
     }
 
     /// A part that is not there (all ones on MISO) is refused by its id.

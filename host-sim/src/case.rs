@@ -12,6 +12,7 @@
 //! [`Changes`] applied to the scenario as written and resolved again, so a derived case is
 //! checked exactly as a loaded one and equals the case the same `--set` text would give.
 
+use crate::cars::fig6::Fig6;
 use crate::error::shown;
 use crate::fe::newmark::Rayleigh;
 use crate::fe::soil::Soil;
@@ -69,6 +70,8 @@ pub enum TrainCase {
         cars: usize,
         nodes: usize,
         length: f64,
+        /// Mass of each magnet node (kg), `Fig6::magnet_mass`.
+        magnet_mass: f64,
     },
     /// `cars` wheel/rail cars (docs/cars.md); `nodes` wheel–rail contacts in all.
     WheelRail {
@@ -328,7 +331,9 @@ impl Case {
                 cars,
                 car_length,
             } => Train::fig1_repeated(car, *cars, *car_length, GRAVITY).map(Some),
-            TrainCase::Maglev { cars, .. } => Train::fig6(*cars, GRAVITY).map(Some),
+            TrainCase::Maglev {
+                cars, magnet_mass, ..
+            } => Train::fig6_with(&fig6(*magnet_mass), *cars, GRAVITY).map(Some),
             TrainCase::WheelRail { cars, .. } => Train::wheel_rail(*cars, GRAVITY).map(Some),
             TrainCase::Unit(u) => Ok(Some(VehicleModel::unit(u, GRAVITY)?.into())),
             TrainCase::Forces(_) => Ok(None),
@@ -394,9 +399,10 @@ impl Case {
                 cars,
                 nodes,
                 length,
+                magnet_mass,
             } => json!({
                 "kind": "maglev", "cars": cars, "magnets": nodes, "length_m": length,
-                "car": "Fig. 6 carriage, docs/cars.md",
+                "car": "Fig. 6 carriage, docs/cars.md", "wheel_mass_kg": magnet_mass,
             }),
             TrainCase::WheelRail {
                 cars,
@@ -1263,14 +1269,20 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
                 *geometry,
             ))
         }
-        VehicleSection::Maglev(scenario::MaglevKeys { cars, geometry }) => {
+        VehicleSection::Maglev(scenario::MaglevKeys {
+            cars,
+            wheel_mass_kg,
+            geometry,
+        }) => {
             bounded("train.cars", *cars, 1, MAX_CARS)?;
-            let (nodes, length) = extent_of(&Train::fig6(*cars, GRAVITY)?);
+            let magnet_mass = non_negative("train.wheel_mass_kg", *wheel_mass_kg)?;
+            let (nodes, length) = extent_of(&Train::fig6_with(&fig6(magnet_mass), *cars, GRAVITY)?);
             Ok((
                 TrainCase::Maglev {
                     cars: *cars,
                     nodes,
                     length,
+                    magnet_mass,
                 },
                 *geometry,
             ))
@@ -1318,6 +1330,15 @@ fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
             )?),
             Geometry::Paper,
         )),
+    }
+}
+
+/// The Fig. 6 carriage of a `maglev` train: the defaults of docs/cars.md with magnet nodes of
+/// `magnet_mass` (kg).
+pub fn fig6(magnet_mass: f64) -> Fig6 {
+    Fig6 {
+        magnet_mass,
+        ..Fig6::default()
     }
 }
 
@@ -1923,5 +1944,23 @@ mod tests {
             seeds += 1;
         }
         assert!(seeds >= 10, "{seeds} seeds in {}", dir.display());
+    }
+
+    /// `train.wheel_mass_kg` reaches the Fig. 6 carriages: each of the 384 magnets of the
+    /// default train carries its share of body and bogies, 50 t/32, plus its own mass (the
+    /// hand statics of docs/cars.md), and a negative mass is refused by its key.
+    #[test]
+    fn maglev_magnet_mass_reaches_the_train() {
+        for m in [0.0, 500.0] {
+            let c = Case::load("paper-5", &[format!("train.wheel_mass_kg={m}")]).unwrap();
+            let t = c.vehicle_train().unwrap().unwrap();
+            let want = (50_000.0 / 32.0 + m) * GRAVITY;
+            assert_eq!(t.p0.len(), 384);
+            for p in &t.p0 {
+                assert!((p - want).abs() <= 1e-9 * want, "{p} against {want}");
+            }
+        }
+        let e = Case::load("paper-5", &["train.wheel_mass_kg=-1".into()]).unwrap_err();
+        assert!(e.to_string().contains("train.wheel_mass_kg"), "{e}");
     }
 }

@@ -18,7 +18,13 @@ use maglev_core::LawKind;
 fn design_vehicle(case: &Case) -> Result<VehicleModel> {
     match &case.train {
         TrainCase::Fig1 { car, .. } => VehicleModel::fig1(car, GRAVITY),
-        TrainCase::Maglev { .. } => Ok(Train::fig6(1, GRAVITY)?.cars.remove(0)),
+        TrainCase::Maglev { magnet_mass, .. } => {
+            Ok(
+                Train::fig6_with(&crate::case::fig6(*magnet_mass), 1, GRAVITY)?
+                    .cars
+                    .remove(0),
+            )
+        }
         TrainCase::Unit(u) => VehicleModel::unit(u, GRAVITY),
         TrainCase::Forces(_) | TrainCase::WheelRail { .. } => Err(Error::invalid(
             "controller.law",

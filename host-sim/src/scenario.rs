@@ -255,6 +255,9 @@ pub struct MovingForceKeys {
 pub struct MaglevKeys {
     #[serde(default = "twelve")]
     pub cars: usize,
+    /// Mass of each magnet node (kg); default 0, the paper's massless nodes (docs/cars.md).
+    #[serde(default)]
+    pub wheel_mass_kg: f64,
     /// How the magnets face their rails (docs/model.md §2); default `paper`.
     #[serde(default)]
     pub geometry: Geometry,

@@ -516,9 +516,12 @@ impl Train {
     /// `n` Fig. 6 maglev carriages (default parameters, docs/cars.md) at their own pitch,
     /// 16 × 1.5625 = 25 m, so every magnet of the train keeps the equal 1.5625 m spacing.
     pub fn fig6(n: usize, gravity: f64) -> Result<Self> {
-        let p = Fig6::default();
-        let pitch = p.car_pitch();
-        Self::repeated(&CarKind::Fig6Maglev(p), n, pitch, gravity)
+        Self::fig6_with(&Fig6::default(), n, gravity)
+    }
+
+    /// `n` Fig. 6 carriages of parameters `p` at their own pitch.
+    pub fn fig6_with(p: &Fig6, n: usize, gravity: f64) -> Result<Self> {
+        Self::repeated(&CarKind::Fig6Maglev(p.clone()), n, p.car_pitch(), gravity)
     }
 
     /// `n` wheel/rail cars (default parameters, docs/cars.md) at their 25 m pitch.

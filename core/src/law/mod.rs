@@ -186,6 +186,17 @@ impl<S: Scalar> Law<S> {
         }
     }
 
+    /// The state law, when this is one: [`Law::update`]'s state arm is its
+    /// [`StateLaw::update`] on the state's `inner` and `state`, so a caller that runs many
+    /// magnets under it (the firmware's tick) chooses the law once, not per magnet, as it
+    /// does for the paper's law through [`Law::levitation`].
+    pub fn state_law(&self) -> Option<&StateLaw<S>> {
+        match &self.kind {
+            Compiled::State(l) => Some(l),
+            _ => None,
+        }
+    }
+
     /// Whether this is the paper's law alone (whose updates may be batched,
     /// [`crate::levitation::batch`]).
     pub fn is_paper(&self) -> bool {

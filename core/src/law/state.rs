@@ -196,6 +196,7 @@ impl StateParams {
         .compile::<S>()?;
         let sigma = self.geometry.levitation_sign();
         let c = |name, v| convert::<S>(name, v, DEFAULT_COEFFICIENT_TOLERANCE);
+        let v_max = c("state v_max/Vb", self.v_max / vb)?;
         Ok(StateLaw {
             params: *self,
             coil,
@@ -205,7 +206,9 @@ impl StateParams {
             ka: c("state ka·g/Vb", self.ka * GRAVITY / vb)?,
             ki_delta: c("state ki·h0·δ/Vb", self.ki * m.h0 * delta / vb)?,
             kc: c("state kc·i0/Vb", self.kc * m.i0 / vb)?,
-            v_max: c("state v_max/Vb", self.v_max / vb)?,
+            v_max,
+            // The general path's `v_max.sneg` (exact in every type that has the value).
+            v_min: v_max.sneg(&mut false),
             l1: c("state 2ω·δ", 2.0 * omega * delta)?,
             l2: c("state ω²·δ", omega * omega * delta)?,
             accel_gain: c("state σ·g·δ/h0", sigma * GRAVITY * delta / m.h0)?,
@@ -229,6 +232,8 @@ pub struct StateLaw<S> {
     ki_delta: S,
     kc: S,
     v_max: S,
+    /// `−v_max`, the lower clamp.
+    v_min: S,
     /// Observer gains per period.
     l1: S,
     l2: S,
@@ -299,7 +304,7 @@ impl<S: Scalar> StateLaw<S> {
     /// operand to a finite result before them), so when the checks pass the result is the
     /// general path's to the bit (`tests::fast_path_is_bit_identical`); otherwise `None` and
     /// the general path runs from the untouched state.
-    #[inline]
+    #[inline(always)]
     fn fast_update(
         &self,
         coil: &mut State<S>,
@@ -314,8 +319,10 @@ impl<S: Scalar> StateLaw<S> {
         let eta_end = gap.sub_raw(one);
         let acc_end = accel.unwrap_or(S::ZERO);
         let (eta, acc) = (coil.eta, st.accel);
-        let d_eta = eta_end.sub_raw(eta).mul_raw(self.steps);
-        let d_acc = acc_end.sub_raw(acc).mul_raw(self.steps);
+        // One period: `1/n` is exactly 1 and `x·1 = x` for every float, so the general
+        // path's increments `(end − start)·(1/n)` are the differences themselves.
+        let d_eta = eta_end.sub_raw(eta);
+        let d_acc = acc_end.sub_raw(acc);
         let i_pu = one.add_raw(coil.x).mul_raw(one.add_raw(eta));
         let di = i_pu.sub_raw(one);
         let dv = self
@@ -326,7 +333,15 @@ impl<S: Scalar> StateLaw<S> {
             .add_raw(st.integral)
             .sub_raw(self.kc.mul_raw(di));
         let v = one.add_raw(dv);
-        let clamped = v > self.v_max || v < S::ZERO.sub_raw(self.v_max);
+        // `clamp_to(−v_max, v_max)` for a value that is not NaN (a NaN `v` fails the check
+        // below), with the comparisons that also say whether it clamped.
+        let (vc, clamped) = if v > self.v_max {
+            (self.v_max, true)
+        } else if v < self.v_min {
+            (self.v_min, true)
+        } else {
+            (v, false)
+        };
         let integral = if clamped {
             st.integral
         } else {
@@ -353,23 +368,30 @@ impl<S: Scalar> StateLaw<S> {
         if !all.is_finite_value() {
             return None;
         }
+        // The coil's own fast path, on a copy: when it declines, so does this one, and the
+        // general path runs from the untouched state (its coil step then takes the coil's
+        // general path, which is the same computation).
+        let mut c = *coil;
+        c.y = vc.sub_raw(one);
+        let out = self.coil.fast_update(&mut c, h1)?;
         st.integral = integral;
         st.eta_est = eta_est;
         st.rate_est = rate_est;
-        let mut ov = false;
-        coil.y = v
-            .clamp_to(self.v_max.sneg(&mut ov), self.v_max)
-            .sub_raw(one);
-        let mut out = self.coil.update(coil, h1);
-        if clamped {
-            out.status = out.status.union(Status::VOLTAGE_SATURATED);
-        }
-        coil.eta = eta_end;
         st.accel = acc_end;
-        Some(out)
+        *coil = State { eta: eta_end, ..c };
+        Some(Output {
+            status: if clamped {
+                Status::VOLTAGE_SATURATED
+            } else {
+                Status::default()
+            },
+            ..out
+        })
     }
 
-    /// [`StateLaw::update`] with every operation checked, any number of periods.
+    /// [`StateLaw::update`] with every operation checked, any number of periods; out of line,
+    /// so that the fast path's prologue stays small.
+    #[inline(never)]
     fn general_update(
         &self,
         coil: &mut State<S>,
@@ -425,7 +447,7 @@ impl<S: Scalar> StateLaw<S> {
             .sadd(st.integral, ov)
             .ssub(self.kc.smul(di, ov), ov);
         let v = S::ONE.sadd(dv, ov);
-        let lo = self.v_max.sneg(ov);
+        let lo = self.v_min;
         (v.clamp_to(lo, self.v_max), v > self.v_max || v < lo)
     }
 

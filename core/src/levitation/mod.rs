@@ -764,7 +764,7 @@ impl<S: Scalar> Levitation<S> {
     /// non-finite result — and the general path runs; so the outcome is
     /// bit-identical to the general path's either way.
     #[inline(always)]
-    fn fast_update(&self, st: &mut State<S>, h1: S) -> Option<Output<S>> {
+    pub(crate) fn fast_update(&self, st: &mut State<S>, h1: S) -> Option<Output<S>> {
         if !h1.positive_up_to(self.fast_h) {
             return None;
         }

@@ -10,8 +10,8 @@
 use crate::board::selftest::{gap, Measure, STEPS};
 use core::fmt::{self, Write};
 use maglev_core::gap::Geometry;
-use maglev_core::law::state::StateParams;
-use maglev_core::{Law, LawKind, LawParams, LawState, Measurement, Output, Params, Scalar};
+use maglev_core::law::state::{StateLaw, StateParams};
+use maglev_core::{LawKind, LawParams, LawState, Measurement, Output, Params, Scalar};
 
 /// Control period (s): one period per update.
 pub const PERIOD: f64 = 1e-4;
@@ -44,16 +44,22 @@ pub fn accel(k: usize) -> f64 {
     0.02 * ((k % 5) as f64 - 2.0)
 }
 
-/// One update as a real call (the measuring window holds exactly it).
+/// One update as a real call (the measuring window holds exactly it): `Law::update`'s state
+/// arm, [`StateLaw::update`], called as the firmware's tick calls it (the law chosen once,
+/// `crate::firmware`).
 #[inline(never)]
-pub fn update_once<S: Scalar>(law: &Law<S>, st: &mut LawState<S>, m: Measurement<S>) -> Output<S> {
-    law.update(st, m)
+pub fn update_once<S: Scalar>(
+    law: &StateLaw<S>,
+    st: &mut LawState<S>,
+    m: Measurement<S>,
+) -> Output<S> {
+    law.update(&mut st.inner, &mut st.state, m.gap, m.accel)
 }
 
 /// [`update_once`]'s signature, returning at once: the harness's share of a count.
 #[inline(never)]
 pub fn update_shaped<S: Scalar>(
-    _law: &Law<S>,
+    _law: &StateLaw<S>,
     _st: &mut LawState<S>,
     _m: Measurement<S>,
 ) -> Output<S> {
@@ -71,6 +77,9 @@ pub fn report<S: Scalar, W: Write, M: Measure>(w: &mut W, m: &M, target: u32) ->
     };
     let mut st = law.equilibrium_state(p.magnet.h0);
     let mut shaped_st = st;
+    let Some(law) = law.state_law() else {
+        return writeln!(w, "insns {}/state law: not a state law", S::NAME);
+    };
     let (mut lo, mut hi, mut events) = (u32::MAX, 0, 0);
     for k in 1..=STEPS {
         let mut ov = false;
@@ -80,7 +89,7 @@ pub fn report<S: Scalar, W: Write, M: Measure>(w: &mut W, m: &M, target: u32) ->
             current: None,
         };
         let mut out = Output::default();
-        let Some(n) = m.count(&mut || out = update_once(&law, &mut st, meas)) else {
+        let Some(n) = m.count(&mut || out = update_once(law, &mut st, meas)) else {
             return writeln!(w, "insns {}/state law: not measured", S::NAME);
         };
         if out.status.is_empty() && !ov {
@@ -91,7 +100,7 @@ pub fn report<S: Scalar, W: Write, M: Measure>(w: &mut W, m: &M, target: u32) ->
     }
     let meas = Measurement::gap(S::ONE);
     let mut out = Output::default();
-    let Some(harness) = m.count(&mut || out = update_shaped(&law, &mut shaped_st, meas)) else {
+    let Some(harness) = m.count(&mut || out = update_shaped(law, &mut shaped_st, meas)) else {
         return writeln!(w, "insns {}/state law: not measured", S::NAME);
     };
     let net = hi.saturating_sub(harness);
