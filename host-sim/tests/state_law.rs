@@ -107,9 +107,10 @@ fn heavy_ems_magnets_keep_their_gaps() {
 /// Issue 26 point 6 on the §5 train (12 Fig. 6 carriages, 384 magnets, 35 spans, the Table 1
 /// rail at 83.33 m/s; 5000 steps, about 25 s in release) with the scenario's own
 /// `[controller.state]` and magnets of 500 kg: `maglev run paper-5 --set geometry=ems --set
-/// law=state --set train.wheel_mass_kg=500`. The same run on the paper's massless magnet
-/// nodes (`wheel_mass_kg = 0`) collides (docs/levitation.md, "The §5 train"), so this fails
-/// when the magnets' mass stops reaching the train.
+/// law=state --set train.wheel_mass_kg=500`. On the paper's massless magnet nodes
+/// (`wheel_mass_kg = 0`) the same run collided at every step and is now refused
+/// (docs/levitation.md, "The §5 train"), so this fails when the magnets' mass stops reaching
+/// the train.
 #[test]
 fn the_paper_5_train_keeps_its_gaps() {
     let d = out_dir("paper-5");
