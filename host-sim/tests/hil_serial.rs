@@ -184,6 +184,12 @@ fn bad_serial_arguments_are_one_line_errors() {
     assert!(!tmp.join("o").exists());
     let o = hil("inproc", &tmp.join("o"), &["--baud", "0"]);
     assert_eq!(o.status.code(), Some(2));
+    // A baud rate with a mode that has no serial line is refused, not ignored.
+    let o = hil("inproc", &tmp.join("o"), &["--baud", "9600"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("--baud: ") && err.lines().count() == 1, "{err}");
+    assert!(!tmp.join("o").exists());
 }
 
 fn tempdir(name: &str) -> PathBuf {

@@ -87,9 +87,10 @@ pub struct Args {
     /// inproc, process, qemu, or serial:PATH (a serial device: a board, or a pty).
     #[arg(long, default_value = "inproc", value_parser = clap::value_parser!(FirmwareMode))]
     pub firmware: FirmwareMode,
-    /// The baud rate of `--firmware serial:PATH` (8N1, raw).
-    #[arg(long, default_value_t = 115_200, value_parser = clap::value_parser!(u32).range(1..))]
-    pub baud: u32,
+    /// The baud rate of `--firmware serial:PATH` (8N1, raw; default 115200). Refused with any
+    /// other mode, which has no serial line to set.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub baud: Option<u32>,
     /// Pace each host step to the wall clock (one control period of Δt each); report deadline
     /// misses and exchange latency in summary.json, and stop with an error when the link is
     /// too slow for the rate (docs/hil.md, "Real time").
@@ -235,6 +236,12 @@ pub fn qemu_command(qemu: &Path, image: &Path, link: QemuLink) -> Command {
 /// Opens the link of a mode: a link fault without bytes is `Invalid` on `--set link_fault`,
 /// a missing program or image and a failed start are [`Error::Firmware`].
 pub fn open_link(args: &Args, faults: LinkFaults) -> Result<Box<dyn Link>> {
+    if args.baud.is_some() && !matches!(args.firmware, FirmwareMode::Serial(_)) {
+        return Err(Error::invalid(
+            "--baud",
+            "sets a serial line: only with --firmware serial:PATH",
+        ));
+    }
     let mut link = match &args.firmware {
         FirmwareMode::Inproc => {
             if faults != LinkFaults::default() {
@@ -282,7 +289,7 @@ pub fn open_link(args: &Args, faults: LinkFaults) -> Result<Box<dyn Link>> {
                 .unwrap_or_else(|| "qemu-system-arm".into());
             StreamLink::spawn(qemu_command(&qemu, &image, args.qemu_link))?
         }
-        FirmwareMode::Serial(path) => StreamLink::serial(path, args.baud)?,
+        FirmwareMode::Serial(path) => StreamLink::serial(path, args.baud.unwrap_or(115_200))?,
     };
     link.timeout = Duration::from_millis(args.timeout_ms);
     link.max_retries = args.retries;
