@@ -188,7 +188,10 @@ fn bad_serial_arguments_are_one_line_errors() {
     let o = hil("inproc", &tmp.join("o"), &["--baud", "9600"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("--baud: ") && err.lines().count() == 1, "{err}");
+    assert!(
+        err.contains("--baud: ") && err.lines().count() == 1,
+        "{err}"
+    );
     assert!(!tmp.join("o").exists());
 }
 
