@@ -102,10 +102,8 @@ fn spec(a: &Args) -> Result<Spec> {
 /// Run the subcommand: the CSV to stdout.
 pub fn run(a: Args) -> Result<()> {
     let r = synthesize(&spec(&a)?)?;
-    let prec = format!("{}", a.dt_s)
-        .split_once('.')
-        .map_or(0, |(_, f)| f.len())
-        .min(17);
+    // t printed with Δt's decimals, as `irregularity` prints x.
+    let prec = crate::cli::irregularity::decimals(a.dt_s);
     let mut w = crate::cli::stdout::writer();
     let io = crate::cli::stdout::error;
     writeln!(w, "t_s,ax_m_per_s2,ay_m_per_s2,az_m_per_s2").map_err(io)?;

@@ -93,7 +93,7 @@ pub fn sample_count(dx: f64, length: f64) -> Result<usize> {
 /// Decimal places of `dx`'s shortest representation (capped at 17): x is printed with these
 /// so that `--dx 0.1` prints `0.3`, not `0.30000000000000004`. The profile is evaluated at
 /// j·dx exactly; the printed x differs from it by less than 1e-15 relative.
-fn decimals(dx: f64) -> usize {
+pub(crate) fn decimals(dx: f64) -> usize {
     let s = format!("{dx}");
     s.split_once('.').map_or(0, |(_, f)| f.len()).min(17)
 }
