@@ -65,7 +65,7 @@ fn passage(c: &mut Criterion) {
         ),
     ] {
         let sets: Vec<String> = sets.into_iter().map(String::from).collect();
-        let case = maglev_host_sim::case::Case::load("paper-4.2", &sets).unwrap();
+        let case = maglev_host_sim::input::case::Case::load("paper-4.2", &sets).unwrap();
         g.bench_function(name, |b| {
             b.iter(|| {
                 black_box(

@@ -5,8 +5,8 @@
 //! a one-thread rayon pool. docs/performance.md.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use maglev_host_sim::case::Case;
 use maglev_host_sim::ground::receivers::{self, BaseForces};
+use maglev_host_sim::input::case::Case;
 use maglev_host_sim::setup::{simulate, Controllers};
 
 /// The 20 distances of docs/ground.md "Cost" (m), across the line at pier 20.

@@ -8,8 +8,8 @@
 //!   section), 83.33 m/s, 16 elements per span, Δt = 2 ms.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use maglev_host_sim::fe::FeGuideway;
-use maglev_host_sim::guideway::{BeamSection, Bridge, Guideway, PointLoad};
+use maglev_host_sim::physics::fe::FeGuideway;
+use maglev_host_sim::physics::guideway::{BeamSection, Bridge, Guideway, PointLoad};
 use std::time::Duration;
 
 fn moving_force(c: &mut Criterion) {

@@ -8,7 +8,7 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use maglev_core::irregularity::{Direction, Irregularity, PsdParams};
 use maglev_core::irregularity_fast::{fill, FixedTable, Table};
-use maglev_host_sim::profile::Profile;
+use maglev_host_sim::physics::profile::Profile;
 
 fn one_sample(c: &mut Criterion) {
     let p = PsdParams::TABLE1_Z;

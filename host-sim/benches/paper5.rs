@@ -5,7 +5,7 @@
 //! pool, so the train's and the spans' `par_iter`s stay on it. docs/performance.md, docs/paper5.md.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use maglev_host_sim::case::Case;
+use maglev_host_sim::input::case::Case;
 use maglev_host_sim::probes::NoRecorder;
 use maglev_host_sim::setup::{simulate, Controllers};
 

@@ -3,7 +3,7 @@
 //! multi-span FE viaduct (serial and with the cars on rayon). docs/performance.md.
 
 use criterion::{black_box, criterion_group, criterion_main, BatchSize, Criterion};
-use maglev_host_sim::case::Case;
+use maglev_host_sim::input::case::Case;
 use maglev_host_sim::probes::NoRecorder;
 use maglev_host_sim::setup::Passage;
 use maglev_host_sim::simulation::{simulate, Load};

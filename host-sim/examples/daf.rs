@@ -7,7 +7,7 @@
 //! target/daf, all cores, DIR/daf.svg; `--svg docs/sweeps-daf.svg` refreshes the tracked
 //! figure of docs/sweeps.md). The sweeps are resumable: a second call only redraws.
 
-use maglev_host_sim::sweep::{self, plot, Options, Spec};
+use maglev_host_sim::studies::sweep::{self, plot, Options, Spec};
 use std::path::{Path, PathBuf};
 
 /// Midspan deflection (m, downward positive) of a simply supported span of length `l` under a

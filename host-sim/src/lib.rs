@@ -1,34 +1,28 @@
 //! Host-side simulators: the guideway (FE and modal reference), vehicles, coupling, CLI.
 //!
-//! Data flows one way: `cli/` parses arguments into a [`case::Case`], [`setup::simulate`] runs
-//! it, [`output`] writes it. Nothing outside `cli/` imports from `cli/` (tests/layering.rs).
+//! Data flows one way: `cli/` parses arguments into an [`input::case::Case`],
+//! [`setup::simulate`] runs it, [`output`] writes it. The module tree shows the layers, lowest
+//! first (docs/architecture.md; `tests/layering.rs` checks that no module names a higher one):
+//!
+//! - [`physics`]: the guideway, the vehicles and cars, the irregularity, support motion;
+//! - [`simulation`], [`probes`]: the coupled time loop and what it records;
+//! - [`input`]: scenarios as written and the checked case in SI;
+//! - [`setup`], [`output`], [`plot`], [`bands`], [`ground`]: one passage from a case to its output
+//!   directory, and what is computed from its records (band levels, ground-borne vibration);
+//! - [`studies`]: validation, the paper-5 report, stability, gain design, sweeps;
+//! - [`hil`]: the firmware as the magnets; `cli/`: the commands.
 pub mod bands;
-pub mod cars;
-pub mod case;
 pub mod cli;
-pub mod control;
-pub mod design;
 pub mod error;
-pub mod fe;
 pub mod ground;
-pub mod guideway;
 pub mod hil;
 pub mod input;
-pub mod modal;
 pub mod output;
-pub mod paper5;
-pub mod paper5_ground;
+pub mod physics;
 pub mod plot;
 pub mod probes;
-pub mod profile;
-pub mod scenario;
-pub mod seismic;
 pub mod setup;
 pub mod simulation;
-pub mod stability;
-pub mod sweep;
-pub mod validation;
-pub mod vehicle;
-pub mod vehicle_integrator;
+pub mod studies;
 
 pub use error::{Error, Result};

@@ -4,7 +4,7 @@
 pub mod owned;
 pub mod staging;
 
-use crate::case::Case;
+use crate::input::case::Case;
 use crate::plot::{self, Plot, Series};
 use crate::probes::CsvRecorder;
 use crate::simulation::{voltage_limit, CoilRanges, GapRanges, Outcome};

@@ -10,7 +10,7 @@
 //!   `gap_y` (the left magnet's, h0 + d, docs/model.md §2) and levitation gap `gap_z` (m), and
 //!   its levitation force (N, up); for a `forces` train, load N's point of the guideway and
 //!   its force (no gaps). Wheels are numbered along the train, car by car
-//!   ([`crate::vehicle::Train::nodes`]); a wheel–rail car's wheels are its Hertz contacts:
+//!   ([`crate::physics::vehicle::Train::nodes`]); a wheel–rail car's wheels are its Hertz contacts:
 //!   `z` the wheel's displacement, `force_z` the contact force (N, compressive, i.e. the rail
 //!   pushing the wheel up — the same "up on the wheel" as a magnet's force; zero once the
 //!   wheel has lifted off), no `y` and no gaps (empty cells);
@@ -28,9 +28,9 @@
 //! Today's default columns keep their names (`midspan_z` is `span1.midspan.z`, `wheel1_gap_z`
 //! is `wheel1.gap_z`, …). Every probe is checked against the case before the run starts.
 
-use crate::guideway::{Guideway, SectionMotion};
+use crate::physics::guideway::{Guideway, SectionMotion};
+use crate::physics::vehicle::Node;
 use crate::simulation::{magnet_gaps, written};
-use crate::vehicle::Node;
 use crate::{Error, Result};
 use std::io::Write;
 
@@ -799,7 +799,7 @@ mod tests {
         let names: Vec<String> = (1..=n).map(|k| format!("wheel{k}.force_z")).collect();
         let probes = Probes::new(Some(&names), &e).unwrap();
         let mut rec = CsvRecorder::new(probes, Vec::new()).unwrap();
-        let g = crate::guideway::RigidGuideway::new(1e-3);
+        let g = crate::physics::guideway::RigidGuideway::new(1e-3);
         let points = vec![(0.0, 0.0, 0.0); n];
         let t = 0.1 + 0.2;
         let step = StepView {
@@ -856,7 +856,7 @@ mod tests {
             magnets: false,
         };
         let names = vec!["pier1.base.z".to_string(), "wheel1.force_z".to_string()];
-        let g = crate::guideway::RigidGuideway::new(1e-3);
+        let g = crate::physics::guideway::RigidGuideway::new(1e-3);
         let points = [(0.0, 0.0, 0.0)];
         for v in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1.5] {
             let forces = [v];
@@ -928,7 +928,7 @@ mod tests {
             sizes: Vec::new(),
         };
         let mut rec = CsvRecorder::new(probes, sink).unwrap();
-        let g = crate::guideway::RigidGuideway::new(1e-3);
+        let g = crate::physics::guideway::RigidGuideway::new(1e-3);
         let points = [(0.0, 0.0, 0.0)];
         let mut want = String::from("t,wheel1.force_z,iterations,collision\n");
         for k in 0..6000u32 {

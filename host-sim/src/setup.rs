@@ -5,16 +5,16 @@
 //! Why one place: `maglev run` and `maglev hil` must differ only in the magnets (that is what
 //! `hil --compare` measures), so everything else is built here, once, from the [`Case`].
 
-use crate::case::{Case, TrainCase};
-use crate::fe::{FeGuideway, Viaduct};
-use crate::guideway::{Guideway, PointLoad, PointMotion, RigidGuideway, SectionMotion};
 use crate::hil::coupling::{EventRecord, FirmwareMagnets};
 use crate::hil::link::Link;
 use crate::hil::HilSettings;
-use crate::modal::{ModalGuideway, ModalSpans};
+use crate::input::case::{Case, TrainCase};
+use crate::input::scenario::Model;
+use crate::physics::fe::{FeGuideway, Viaduct};
+use crate::physics::guideway::{Guideway, PointLoad, PointMotion, RigidGuideway, SectionMotion};
+use crate::physics::modal::{ModalGuideway, ModalSpans};
+use crate::physics::profile::Profile;
 use crate::probes::Recorder;
-use crate::profile::Profile;
-use crate::scenario::Model;
 use crate::simulation::{couple, initial_gaps, Load, Outcome, Profiles, Settings};
 use crate::{Error, Result};
 use std::time::Instant;
@@ -90,7 +90,7 @@ impl Guideway for AnyGuideway {
     fn commit(&mut self) {
         each!(self, g => g.commit())
     }
-    fn pier_base(&self, k: usize) -> Option<crate::guideway::BaseMotion> {
+    fn pier_base(&self, k: usize) -> Option<crate::physics::guideway::BaseMotion> {
         each!(self, g => g.pier_base(k))
     }
 }

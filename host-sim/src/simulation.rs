@@ -27,9 +27,9 @@ pub mod magnets;
 mod time_loop;
 pub mod train;
 
-use crate::guideway::Guideway;
+use crate::physics::guideway::Guideway;
+use crate::physics::vehicle::Train;
 use crate::probes::Recorder;
-use crate::vehicle::Train;
 use crate::{Error, Result};
 use maglev_core::gap::{self, Geometry};
 use maglev_core::{LawKind, Params, Status};
@@ -307,7 +307,7 @@ pub(crate) fn written<T: Clone>(n: usize, value: T) -> Vec<T> {
 }
 
 /// The linearised contact force (N, compressive positive; docs/cars.md "Wheel–rail
-/// contact"): `P = P0 − k·(z_w − z_g + r_z)`, k the contact spring ([`crate::vehicle::Contact::k`]), with z_w the wheel's and z_g the rail point's
+/// contact"): `P = P0 − k·(z_w − z_g + r_z)`, k the contact spring ([`crate::physics::vehicle::Contact::k`]), with z_w the wheel's and z_g the rail point's
 /// displacement (m, up) and r_z the irregularity (m; r_z > 0 opens the gap, as in Eq. 2).
 /// Negative means the wheel has lifted off: the caller clamps it at zero.
 pub fn contact_force(p0: f64, k: f64, z_w: f64, z_g: f64, r_z: f64) -> f64 {

@@ -1,8 +1,8 @@
 //! `maglev ground green` through the built binary: the JSON shape, the library's value, and
 //! one-line errors with exit status 2.
 
-use maglev_host_sim::fe::soil::Soil;
 use maglev_host_sim::ground::green::{displacement_per_newton, Green};
+use maglev_host_sim::physics::fe::soil::Soil;
 use std::process::Command;
 
 fn maglev(args: &[&str]) -> std::process::Output {

@@ -17,8 +17,8 @@
 
 use maglev_host_sim::probes::Rows;
 use maglev_host_sim::setup::{simulate, Controllers};
-use maglev_host_sim::stability::coupled::critical;
-use maglev_host_sim::stability::report::{scenario_report, ScenarioReport};
+use maglev_host_sim::studies::stability::coupled::critical;
+use maglev_host_sim::studies::stability::report::{scenario_report, ScenarioReport};
 use nalgebra::{Complex, DMatrix};
 
 /// Rayleigh damping of the span for these checks: 2 % at 5 and 50 Hz (docs/levitation.md).
@@ -315,7 +315,7 @@ fn measured_decay_rates_match_the_predicted_max_real_part() {
         assert_eq!(dominant[0], c.max_real_part);
         let mut s = sets(mass, &["t_end=5.5".to_string()]);
         s.push(format!("output.probes=[\"{probe}\"]"));
-        let case = maglev_host_sim::design::load("unit", &s).unwrap();
+        let case = maglev_host_sim::studies::design::load("unit", &s).unwrap();
         let mut rows = Rows::new(case.probes.clone());
         let run = simulate(&case, Controllers::Core, &mut rows, |_| {}).unwrap();
         assert_eq!(run.outcome.unconverged_steps, 0);

@@ -4,8 +4,10 @@
 //! Every expected value is computed here from the beam properties and textbook formulas,
 //! never from the FE code under test.
 
-use maglev_host_sim::fe::{natural_modes, FeGuideway, ModeKind, Newmark, SpanModel, State};
-use maglev_host_sim::guideway::{BeamSection, Bridge, Guideway, PointLoad};
+use maglev_host_sim::physics::fe::{
+    natural_modes, FeGuideway, ModeKind, Newmark, SpanModel, State,
+};
+use maglev_host_sim::physics::guideway::{BeamSection, Bridge, Guideway, PointLoad};
 use nalgebra::DVector;
 use std::f64::consts::PI;
 
@@ -48,7 +50,7 @@ fn lateral_omega(s: &BeamSection, n: usize) -> f64 {
     )
 }
 
-fn nth(modes: &[maglev_host_sim::fe::Mode], kind: ModeKind, n: usize) -> f64 {
+fn nth(modes: &[maglev_host_sim::physics::fe::Mode], kind: ModeKind, n: usize) -> f64 {
     modes
         .iter()
         .filter(|m| m.kind == kind)
@@ -502,7 +504,7 @@ fn off_node_load_deflection() {
 /// at the rate of the first mode's damping ratio.
 #[test]
 fn rayleigh_damping_dissipates() {
-    use maglev_host_sim::fe::Rayleigh;
+    use maglev_host_sim::physics::fe::Rayleigh;
     let bridge = Bridge {
         section: BeamSection::paper_4_2(),
         spans: vec![L],

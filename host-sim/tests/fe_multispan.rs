@@ -3,9 +3,9 @@
 //! docs/model.md §8) at every span's midspan, and both against the closed-form forced response of
 //! each span's modal system while the force is on that span.
 
-use maglev_host_sim::fe::FeGuideway;
-use maglev_host_sim::guideway::{BeamSection, Bridge, Guideway, PointLoad};
-use maglev_host_sim::modal::{ModalSpans, DEFAULT_MODES};
+use maglev_host_sim::physics::fe::FeGuideway;
+use maglev_host_sim::physics::guideway::{BeamSection, Bridge, Guideway, PointLoad};
+use maglev_host_sim::physics::modal::{ModalSpans, DEFAULT_MODES};
 use std::f64::consts::PI;
 
 const L: f64 = 25.0;

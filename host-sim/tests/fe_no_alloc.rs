@@ -4,8 +4,8 @@
 //! and for the coupled viaduct. (The rayon mode
 //! hands work to the pool, whose job queues may allocate; it is not covered.)
 
-use maglev_host_sim::fe::FeGuideway;
-use maglev_host_sim::guideway::{BeamSection, Bridge, Guideway, PointLoad};
+use maglev_host_sim::physics::fe::FeGuideway;
+use maglev_host_sim::physics::guideway::{BeamSection, Bridge, Guideway, PointLoad};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
@@ -77,11 +77,11 @@ fn time_loop_does_not_allocate() {
     drop(v);
 }
 
-/// The same for the coupled viaduct (host-sim/src/fe/viaduct.rs), including the pier-base
+/// The same for the coupled viaduct (host-sim/src/physics/fe/viaduct.rs), including the pier-base
 /// query the `pier{K}.base.*` probes use.
 #[test]
 fn viaduct_time_loop_does_not_allocate() {
-    use maglev_host_sim::fe::{paper5_viaduct, Viaduct};
+    use maglev_host_sim::physics::fe::{paper5_viaduct, Viaduct};
     let mut spec = paper5_viaduct().with_spans(3);
     spec.elements_per_span = 8;
     let dt = 2e-3;

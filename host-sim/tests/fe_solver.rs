@@ -7,9 +7,9 @@
 //! round-off alone costs on each case.
 
 use maglev_core::gap::{DOFS_PER_NODE, ELEMENT_DOFS};
-use maglev_host_sim::fe::element;
-use maglev_host_sim::fe::{FeGuideway, Rayleigh, SpanModel};
-use maglev_host_sim::guideway::{
+use maglev_host_sim::physics::fe::element;
+use maglev_host_sim::physics::fe::{FeGuideway, Rayleigh, SpanModel};
+use maglev_host_sim::physics::guideway::{
     BeamSection, Bridge, Guideway, PointLoad, PointMotion, SectionMotion,
 };
 use maglev_host_sim::probes::{Probes, Rows};
@@ -511,7 +511,8 @@ fn train_over_three_damped_spans_matches_dense_reference() {
 
 /// The passage's default columns (midspan and wheel 1) and iterations, step by step.
 fn passage(g: &mut impl Guideway) -> Rows {
-    let case = maglev_host_sim::case::Case::load("paper-4.2", &["scheme=accurate".into()]).unwrap();
+    let case =
+        maglev_host_sim::input::case::Case::load("paper-4.2", &["scheme=accurate".into()]).unwrap();
     let settings = maglev_host_sim::setup::Passage::new(&case)
         .unwrap()
         .settings;

@@ -1,4 +1,4 @@
-//! The §5 viaduct (host-sim/src/fe/viaduct.rs) against closed forms and a second model:
+//! The §5 viaduct (host-sim/src/physics/fe/viaduct.rs) against closed forms and a second model:
 //! a pier on an elastic base (bending and rocking: the frequency equation of a cantilever
 //! with a translational and a rotational base spring, solved here by bisection; the static
 //! tip deflection), a girder span on its bearings and piers against a hand calculation of
@@ -6,12 +6,12 @@
 //! supported [`FeGuideway`], the two modal solvers against each other, and convergence of
 //! the first frequencies with elements per span.
 
-use maglev_host_sim::fe::structure::{Axis, Builder, NodeKind};
-use maglev_host_sim::fe::viaduct::{assemble, BearingSpec};
-use maglev_host_sim::fe::{
+use maglev_host_sim::physics::fe::structure::{Axis, Builder, NodeKind};
+use maglev_host_sim::physics::fe::viaduct::{assemble, BearingSpec};
+use maglev_host_sim::physics::fe::{
     dense_modes, lowest_modes, paper5_viaduct, FeGuideway, ModeKind, Viaduct, ViaductSpec,
 };
-use maglev_host_sim::guideway::{BeamSection, Bridge, Guideway, PointLoad};
+use maglev_host_sim::physics::guideway::{BeamSection, Bridge, Guideway, PointLoad};
 use nalgebra::{DVector, Matrix4};
 
 /// A vertical column of `elements` elements on base springs `k` (u … θz), no other mass.
@@ -266,7 +266,7 @@ fn rigid_supports_reproduce_simply_supported_spans() {
     );
 }
 
-fn first_of(modes: &[maglev_host_sim::fe::Mode], kind: ModeKind) -> f64 {
+fn first_of(modes: &[maglev_host_sim::physics::fe::Mode], kind: ModeKind) -> f64 {
     modes
         .iter()
         .find(|m| m.kind == kind)

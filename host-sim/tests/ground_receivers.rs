@@ -2,9 +2,9 @@
 //! of a pulse at the Rayleigh speed (from the Rayleigh cubic solved here), and padding that
 //! lets nothing wrap around (docs/ground.md).
 
-use maglev_host_sim::fe::soil::Soil;
 use maglev_host_sim::ground::green::Green;
 use maglev_host_sim::ground::receivers::{padded_length, velocities};
+use maglev_host_sim::physics::fe::soil::Soil;
 use rustfft::num_complex::Complex64 as C;
 use rustfft::FftPlanner;
 

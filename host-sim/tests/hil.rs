@@ -6,11 +6,11 @@
 
 use maglev_firmware_sim::protocol::Request;
 use maglev_firmware_sim::supervision::Event;
-use maglev_host_sim::case::Case;
 use maglev_host_sim::hil::board::SensorFault;
 use maglev_host_sim::hil::compare;
 use maglev_host_sim::hil::link::{serve, InProc, Link, LinkFaults, StreamLink};
 use maglev_host_sim::hil::HilSettings;
+use maglev_host_sim::input::case::Case;
 use maglev_host_sim::probes::Rows;
 use maglev_host_sim::setup::{simulate, Controllers, FinishedPassage as HilOutcome};
 use std::os::unix::net::UnixStream;
@@ -51,7 +51,7 @@ fn gap_loop_scenario(t_end: &str) -> Case {
         "law=gap-loop".to_string(),
         "geometry=ems".to_string(),
     ];
-    maglev_host_sim::design::load("paper-4.2", &sets).unwrap()
+    maglev_host_sim::studies::design::load("paper-4.2", &sets).unwrap()
 }
 
 /// Wheel 1's gap (m) or force (N) at every step.

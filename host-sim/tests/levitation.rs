@@ -15,10 +15,10 @@
 //! `M·τ·s³ + M·s² + (2·p0·kd/Vb)·s + 2·p0·(kp/Vb − 1/h0)`; Routh: `kp > Vb/h0`, and
 //! `kd > τ·(kp − Vb/h0)`.
 
-use maglev_host_sim::case::{Case, TrainCase};
-use maglev_host_sim::stability::margins::{margins, BrokenLoop};
-use maglev_host_sim::stability::vehicle::VehiclePlant;
-use maglev_host_sim::vehicle::VehicleModel;
+use maglev_host_sim::input::case::{Case, TrainCase};
+use maglev_host_sim::physics::vehicle::VehicleModel;
+use maglev_host_sim::studies::stability::margins::{margins, BrokenLoop};
+use maglev_host_sim::studies::stability::vehicle::VehiclePlant;
 use nalgebra::Complex;
 
 const G: f64 = 9.81;

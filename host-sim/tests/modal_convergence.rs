@@ -15,8 +15,8 @@
 //! 20 −2.9e-4, 40 −5.3e-5, 80 +2.6e-5, 160 +2.5e-5.
 mod modal_common;
 
-use maglev_host_sim::guideway::{BeamSection, Guideway, PointLoad};
-use maglev_host_sim::modal::{ModalGuideway, DEFAULT_MODES};
+use maglev_host_sim::physics::guideway::{BeamSection, Guideway, PointLoad};
+use maglev_host_sim::physics::modal::{ModalGuideway, DEFAULT_MODES};
 use modal_common::{peak_abs, run_moving_load, L, P};
 
 fn peak(modes: usize) -> f64 {

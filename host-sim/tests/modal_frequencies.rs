@@ -9,8 +9,8 @@
 //! at most ~1e4 in ω², so eigenvalue rounding is ≲ 1e-12 relative).
 mod modal_common;
 
-use maglev_host_sim::guideway::BeamSection;
-use maglev_host_sim::modal::{natural_frequencies, ModalGuideway};
+use maglev_host_sim::physics::guideway::BeamSection;
+use maglev_host_sim::physics::modal::{natural_frequencies, ModalGuideway};
 use modal_common::{euler_bernoulli_like, L};
 use std::f64::consts::PI;
 

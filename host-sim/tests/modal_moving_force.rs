@@ -13,8 +13,8 @@
 //! Peaks are over the passage (load on the span), at midspan.
 mod modal_common;
 
-use maglev_host_sim::guideway::{BeamSection, Guideway, PointLoad};
-use maglev_host_sim::modal::ModalGuideway;
+use maglev_host_sim::physics::guideway::{BeamSection, Guideway, PointLoad};
+use maglev_host_sim::physics::modal::ModalGuideway;
 use modal_common::{euler_bernoulli_like, peak_abs, run_moving_load, L, P};
 use std::f64::consts::PI;
 
@@ -182,7 +182,8 @@ fn euler_bernoulli_limit_matches_fryba() {
 #[test]
 fn passage_wall_time() {
     let s = BeamSection::paper_4_2();
-    let mut g = ModalGuideway::new(s, L, maglev_host_sim::modal::DEFAULT_MODES, 1e-5).unwrap();
+    let mut g =
+        ModalGuideway::new(s, L, maglev_host_sim::physics::modal::DEFAULT_MODES, 1e-5).unwrap();
     let t0 = std::time::Instant::now();
     let h = run_moving_load(&mut g, downward(), 100.0, L, |g| g.section_at(L / 2.0).z);
     println!(

@@ -16,8 +16,8 @@
 //! varying load excites no term appreciably.
 mod modal_common;
 
-use maglev_host_sim::guideway::{BeamSection, Guideway, PointLoad};
-use maglev_host_sim::modal::{ModalGuideway, DEFAULT_MODES};
+use maglev_host_sim::physics::guideway::{BeamSection, Guideway, PointLoad};
+use maglev_host_sim::physics::modal::{ModalGuideway, DEFAULT_MODES};
 use modal_common::{run_moving_load, L, P};
 use std::f64::consts::PI;
 

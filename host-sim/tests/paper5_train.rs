@@ -5,16 +5,16 @@
 use maglev_core::gap::Geometry;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::{LawKind, Params};
-use maglev_host_sim::cars::fig6::Fig6;
-use maglev_host_sim::cars::wheel_rail::WheelRail;
-use maglev_host_sim::fe::viaduct::{paper5_viaduct, Viaduct};
-use maglev_host_sim::fe::FeGuideway;
-use maglev_host_sim::guideway::RigidGuideway;
-use maglev_host_sim::guideway::{Bridge, Guideway};
+use maglev_host_sim::physics::cars::fig6::Fig6;
+use maglev_host_sim::physics::cars::wheel_rail::WheelRail;
+use maglev_host_sim::physics::fe::viaduct::{paper5_viaduct, Viaduct};
+use maglev_host_sim::physics::fe::FeGuideway;
+use maglev_host_sim::physics::guideway::RigidGuideway;
+use maglev_host_sim::physics::guideway::{Bridge, Guideway};
+use maglev_host_sim::physics::profile::Profile;
+use maglev_host_sim::physics::vehicle::Train;
 use maglev_host_sim::probes::{BodyQ, PierQ, Probe, Probes, Rows, SectionQ, WheelQ};
-use maglev_host_sim::profile::Profile;
 use maglev_host_sim::simulation::{simulate, Load, Outcome, Profiles, Settings};
-use maglev_host_sim::vehicle::Train;
 
 const DT: f64 = 2e-3;
 const SPEED: f64 = 83.33;
@@ -49,9 +49,13 @@ fn settings(
 /// The gap-loop gains designed for the Fig. 6 carriage (docs/gap-loop.md).
 fn gap_loop(geometry: Geometry) -> LawKind {
     let car = Fig6::default().build(GRAVITY).unwrap();
-    let d =
-        maglev_host_sim::stability::design::design(&car, &Params::paper_wheel(DT), geometry, None)
-            .unwrap();
+    let d = maglev_host_sim::studies::stability::design::design(
+        &car,
+        &Params::paper_wheel(DT),
+        geometry,
+        None,
+    )
+    .unwrap();
     LawKind::GapLoop(d.gains)
 }
 
@@ -439,7 +443,7 @@ fn timing_of_12_car_trains_over_35_spans() {
         ..WheelRail::default()
     };
     let hertz_only = Train::repeated(
-        &maglev_host_sim::vehicle::CarKind::WheelRail(hertz_only),
+        &maglev_host_sim::physics::vehicle::CarKind::WheelRail(hertz_only),
         12,
         25.0,
         GRAVITY,
@@ -505,7 +509,7 @@ fn timing_of_12_car_trains_over_35_spans() {
 /// smooth-rail position) the first step jumps by about k·r_z(x0) instead, 270 kN at wheel 1.
 #[test]
 fn paper5_wheel_rail_train_starts_at_its_static_axle_loads_on_the_rough_rail() {
-    use maglev_host_sim::case::Case;
+    use maglev_host_sim::input::case::Case;
     use maglev_host_sim::setup::Passage;
     let case = Case::load("paper-5", &["train=wheel-rail".into(), "t_end=0.02".into()]).unwrap();
     let p = Passage::new(&case).unwrap();
@@ -609,7 +613,7 @@ fn paper5_wheel_rail_train_starts_at_its_static_axle_loads_on_the_rough_rail() {
 /// determinate in the vertical plane, docs/cars.md.)
 #[test]
 fn an_indeterminate_car_starting_over_a_dip_rests_on_its_other_wheels() {
-    use maglev_host_sim::vehicle::{Contact, VehicleModel};
+    use maglev_host_sim::physics::vehicle::{Contact, VehicleModel};
     use nalgebra::{DMatrix, DVector};
     let (mb, jb, mw, kp, cp, kc, l, d) = (30e3, 2e5, 1e3, 1e8, 1e4, 1e9, 5.0, 3e-3);
     let n = 5;

@@ -18,8 +18,8 @@
 //! supported Timoshenko beam's frequency equation (shear and rotary inertia, the FE element's
 //! physics) from the scenario's section values.
 
-use maglev_host_sim::case::Case;
-use maglev_host_sim::guideway::BeamSection;
+use maglev_host_sim::input::case::Case;
+use maglev_host_sim::physics::guideway::BeamSection;
 use maglev_host_sim::probes::Rows;
 use maglev_host_sim::setup::{simulate, Controllers};
 

@@ -11,8 +11,8 @@
 //! kinds ("unknown variant"); each kind then lists its own keys. A key is a sub-table when
 //! `[section.key]` holding `zz_unknown` is refused the same way.
 
-use maglev_host_sim::case::Case;
-use maglev_host_sim::scenario::{self, BUNDLED, SHORT_KEYS};
+use maglev_host_sim::input::case::Case;
+use maglev_host_sim::input::scenario::{self, BUNDLED, SHORT_KEYS};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::Command;

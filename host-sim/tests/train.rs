@@ -1,11 +1,11 @@
 //! Trains of Fig. 1 cars (docs/model.md §10): block-diagonal cars, each in its own static
 //! equilibrium, coupled only through the guideway and the rail.
 
-use maglev_host_sim::case::{Case, TrainCase};
+use maglev_host_sim::input::case::{Case, TrainCase};
+use maglev_host_sim::physics::vehicle::{CarKind, CarSpec, Fig1, Train};
 use maglev_host_sim::probes::{BodyQ, Probe, Recorder, StepView, WheelQ};
 use maglev_host_sim::setup::Passage;
 use maglev_host_sim::simulation::{simulate, Load, Profiles};
-use maglev_host_sim::vehicle::{CarKind, CarSpec, Fig1, Train};
 
 /// Records the given probes at every step.
 struct Collect {

@@ -1,7 +1,7 @@
 //! FE against the modal Timoshenko reference through the whole host pipeline (scenario →
 //! simulation → records): a moving constant force and a short coupled maglev run.
 
-use maglev_host_sim::case::Case;
+use maglev_host_sim::input::case::Case;
 use maglev_host_sim::probes::{Probes, Rows};
 use maglev_host_sim::setup::{simulate, Controllers};
 

@@ -60,7 +60,7 @@
 //! (0.5·h0, 1.5·h0), every step converged.
 
 use maglev_host_sim::cli::run::{run, Args};
-use maglev_host_sim::scenario;
+use maglev_host_sim::input::scenario;
 use maglev_tests::rigid_vehicle_reference::{simulate, Interp, Params, Profile, Row};
 use std::path::Path;
 

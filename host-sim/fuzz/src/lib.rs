@@ -13,11 +13,11 @@
 //! line on stderr"); a case that resolves can be recorded (`Case::record`, the run record).
 //!
 //! The designs (`law = "gap-loop"`, `[controller.state] design = true`) are not part of the
-//! input path: `Case::new` records them as data and `maglev_host_sim::design::resolve` runs
+//! input path: `Case::new` records them as data and `maglev_host_sim::studies::design::resolve` runs
 //! them afterwards (a search over the vehicle's linear model, 0.1 s to minutes), so the
 //! target exercises every key and check of the case at the input path's own speed.
-use maglev_host_sim::case::Case;
-use maglev_host_sim::scenario::{self, BUNDLED};
+use maglev_host_sim::input::case::Case;
+use maglev_host_sim::input::scenario::{self, BUNDLED};
 
 /// The scenario text (or bundled name) and the `--set` lines of a fuzz input.
 pub fn split(data: &[u8]) -> (String, Vec<String>) {

@@ -1,11 +1,11 @@
 //! `maglev accelerogram`: a synthetic three-component ground-acceleration record (Clough–
 //! Penzien noise under an envelope, ending at rest, scaled to a PGA) as CSV
-//! `t_s,ax_m_per_s2,ay_m_per_s2,az_m_per_s2` on stdout; `crate::seismic::accelerogram` has the
+//! `t_s,ax_m_per_s2,ay_m_per_s2,az_m_per_s2` on stdout; `crate::physics::seismic::accelerogram` has the
 //! model, docs/seismic.md the parameters. The same arguments give the same bits.
 
 use std::io::Write;
 
-use crate::seismic::accelerogram::{synthesize, Envelope, GroundFilter, Spec, G};
+use crate::physics::seismic::accelerogram::{synthesize, Envelope, GroundFilter, Spec, G};
 use crate::{Error, Result};
 
 #[derive(clap::Args, Debug)]

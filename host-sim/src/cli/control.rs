@@ -1,8 +1,8 @@
 //! `maglev control`: the levitation law of the core on a gap trace (a `t,h` CSV), through
-//! [`crate::control`]. Output is buffered and written only when the whole trace ran, so a
+//! [`crate::studies::control`]. Output is buffered and written only when the whole trace ran, so a
 //! failure never leaves half a CSV on stdout.
 
-use crate::control::{parse_trace, run_trace_as, to_csv, Row, ScalarKind};
+use crate::studies::control::{parse_trace, run_trace_as, to_csv, Row, ScalarKind};
 use crate::{Error, Result};
 use anyhow::Context as _;
 use maglev_core::{Interpolation, Params, Scheme, Status};

@@ -3,9 +3,9 @@
 //! docs/ground.md): vertical surface displacement per newton of a vertical point load,
 //! load down, displacement positive down, time factor e^{+iωt}.
 
-use crate::case::MAX_MAGNITUDE;
-use crate::fe::soil::Soil;
 use crate::ground::green::{displacement_per_newton, Green};
+use crate::input::case::MAX_MAGNITUDE;
+use crate::physics::fe::soil::Soil;
 use crate::Error;
 
 #[derive(clap::Args, Debug)]

@@ -346,7 +346,7 @@ fn run_inner(args: Args) -> Result<()> {
             scenario_sets.push(s.clone());
         }
     }
-    let case = crate::design::load(&args.scenario, &scenario_sets)?;
+    let case = crate::studies::design::load(&args.scenario, &scenario_sets)?;
     if let Some(&(k, _)) = case.probes.ground_columns().first() {
         return Err(Error::invalid(
             "output.probes",

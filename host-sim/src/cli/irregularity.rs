@@ -8,7 +8,7 @@
 
 use std::io::Write;
 
-use crate::profile::sweep;
+use crate::physics::profile::sweep;
 use crate::{Error, Result};
 use maglev_core::irregularity::{Direction, Irregularity, PsdParams};
 

@@ -2,8 +2,8 @@
 //! docs/model.md §9), of the paper-5 viaduct (`--viaduct SPANS`), or of a scenario's guideway
 //! (`--scenario NAME`), from the FE model, as JSON or CSV on stdout.
 
-use crate::fe::{natural_modes, SpanModel};
-use crate::guideway::BeamSection;
+use crate::physics::fe::{natural_modes, SpanModel};
+use crate::physics::guideway::BeamSection;
 use crate::{Error, Result};
 
 /// Span length of the §4.2 validation beam (m).
@@ -63,7 +63,7 @@ pub fn render(args: &Args) -> Result<String> {
         ));
     }
     if let Some(spans) = args.viaduct {
-        let mut spec = crate::fe::paper5_viaduct().with_spans(spans);
+        let mut spec = crate::physics::fe::paper5_viaduct().with_spans(spans);
         spec.elements_per_span = args.elements;
         if spans == 0 || spans > MAX_SPANS {
             return Err(Error::invalid(
@@ -75,7 +75,7 @@ pub fn render(args: &Args) -> Result<String> {
     }
     let (section, length, elements) = match &args.scenario {
         Some(name) => {
-            let case = crate::case::Case::load(name, &args.sets)?;
+            let case = crate::input::case::Case::load(name, &args.sets)?;
             if let Some(spec) = &case.viaduct {
                 return render_rows(args.format, &viaduct_first_rows(spec, args.count)?);
             }
@@ -124,7 +124,7 @@ pub fn render(args: &Args) -> Result<String> {
 /// Largest viaduct accepted by `--viaduct`.
 pub const MAX_SPANS: usize = 100;
 
-fn viaduct_rows(spec: &crate::fe::ViaductSpec, count: usize) -> Result<Vec<Row>> {
+fn viaduct_rows(spec: &crate::physics::fe::ViaductSpec, count: usize) -> Result<Vec<Row>> {
     if spec.elements_per_span > MAX_ELEMENTS {
         return Err(Error::invalid(
             "--elements",
@@ -134,8 +134,8 @@ fn viaduct_rows(spec: &crate::fe::ViaductSpec, count: usize) -> Result<Vec<Row>>
             ),
         ));
     }
-    let (structure, _) = crate::fe::viaduct::assemble(spec)?;
-    let modes = crate::fe::lowest_modes(&structure, count)?;
+    let (structure, _) = crate::physics::fe::viaduct::assemble(spec)?;
+    let modes = crate::physics::fe::lowest_modes(&structure, count)?;
     Ok(modes
         .into_iter()
         .enumerate()
@@ -155,7 +155,7 @@ fn viaduct_rows(spec: &crate::fe::ViaductSpec, count: usize) -> Result<Vec<Row>>
 /// modes at 2.70 Hz for paper-5, then 36 lateral, …), and the first vertical and torsion
 /// modes lie past the first clusters. Subspace iteration also converges only when its block
 /// reaches past a cluster. So 4·(spans + 1) modes are computed: the four families.
-fn viaduct_first_rows(spec: &crate::fe::ViaductSpec, count: usize) -> Result<Vec<Row>> {
+fn viaduct_first_rows(spec: &crate::physics::fe::ViaductSpec, count: usize) -> Result<Vec<Row>> {
     let all = viaduct_rows(spec, count.max(4 * (spec.spans + 1)))?;
     let mut seen = Vec::new();
     Ok(all

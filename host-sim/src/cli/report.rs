@@ -1,13 +1,13 @@
 //! `maglev report paper-5 --out DIR [--set key=value]...`: runs both trains of the paper's
 //! §5 over the viaduct and writes report.md, fig8.svg, bands.csv and each train's histories
-//! (history-maglev.csv, history-wheel-rail.csv), through [`crate::paper5`]; and the ground
+//! (history-maglev.csv, history-wheel-rail.csv), through [`crate::studies::paper5`]; and the ground
 //! section (ground-levels.csv, ground-levels.svg, ground-map-{train}.svg, through
-//! [`crate::paper5_ground`]).
+//! [`crate::studies::paper5_ground`]).
 
 use crate::cli::progress::Progress;
 use crate::output::Staging;
-use crate::paper5::{self, CARRIAGE, PIER, TRAINS};
-use crate::paper5_ground;
+use crate::studies::paper5::{self, CARRIAGE, PIER, TRAINS};
+use crate::studies::paper5_ground;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 

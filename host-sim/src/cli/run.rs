@@ -1,10 +1,10 @@
 //! `maglev run SCENARIO [--set key=value]... [--out DIR] [--strict]`: one passage over an FE,
 //! modal or rigid guideway.
 
-use crate::case::Case;
 use crate::cli::progress::Progress;
 use crate::ground::receivers::{self, BaseForces};
 use crate::ground::{criteria, levels};
+use crate::input::case::Case;
 use crate::output::{
     fill_response_columns, gap_ranges, response_recorder, write_run, Columns, Staging, Summary,
 };
@@ -152,7 +152,7 @@ fn process_cpu_seconds() -> f64 {
 /// Runs the command. Once the outputs are written: [`Error::Strict`] when `--strict` and the
 /// run collided or left its gap bounds (exit 3), else [`check_converged`].
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let case = crate::design::load(&args.scenario, &args.sets)?;
+    let case = crate::studies::design::load(&args.scenario, &args.sets)?;
     let out = Staging::new(&args.out)?;
     let mut rec = response_recorder(&out, case.probes.clone())?;
     let mut bar = Progress::run("run");

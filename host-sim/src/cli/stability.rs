@@ -2,17 +2,17 @@
 //! controller parameters — continuous g-loop poles (Eq. 9 + 10), the spectral radius and
 //! critical step of Eq. 14 as discretised (or of the accurate scheme, `--scheme accurate`), and
 //! the poles of one magnet carrying its body.
-//! The numbers come from `crate::stability`; this file only parses and prints.
+//! The numbers come from `crate::studies::stability`; this file only parses and prints.
 
 use super::control::ControllerArgs;
 use crate::cli::stdout::print;
-use crate::stability::discrete::{self, Step};
-use crate::stability::gap_loop::GapLoopPlant;
-use crate::stability::gauss;
-use crate::stability::inner_loop::Loop;
-use crate::stability::plant::{rigid_growth_rate, Plant, Suspension};
-use crate::stability::report::{scenario_report, ScenarioReport};
-use crate::stability::Complex;
+use crate::studies::stability::discrete::{self, Step};
+use crate::studies::stability::gap_loop::GapLoopPlant;
+use crate::studies::stability::gauss;
+use crate::studies::stability::inner_loop::Loop;
+use crate::studies::stability::plant::{rigid_growth_rate, Plant, Suspension};
+use crate::studies::stability::report::{scenario_report, ScenarioReport};
+use crate::studies::stability::Complex;
 use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
 use serde::Serialize;
@@ -42,7 +42,7 @@ pub struct Args {
     pub sets: Vec<String>,
     /// Vertical bending modes per span in the coupled analysis (`girder_modes`, with
     /// `--scenario` on a flexible guideway at standstill).
-    #[arg(long = "girder-modes", default_value_t = crate::stability::coupled::GIRDER_MODES)]
+    #[arg(long = "girder-modes", default_value_t = crate::studies::stability::coupled::GIRDER_MODES)]
     pub girder_modes: usize,
     /// With `--scenario`: find the value of this scenario key (e.g. `bridge.mass_t_per_m`)
     /// in `--range` where the coupled model's max_real_part crosses zero.
@@ -137,7 +137,7 @@ pub fn report(args: &Args) -> crate::Result<Report> {
     let accurate = p.scheme == maglev_core::Scheme::Accurate;
     let (substep_eigenvalues, radius, critical) = if accurate {
         let (r, _) = gauss::interval_matrix(&p, 0.0);
-        let ev = crate::stability::sorted_poles(r.complex_eigenvalues().iter().copied());
+        let ev = crate::studies::stability::sorted_poles(r.complex_eigenvalues().iter().copied());
         (ev, gauss::spectral_radius(&p, 0.0), None)
     } else {
         (
@@ -238,10 +238,12 @@ pub fn table(r: &Report) -> String {
 
 pub fn run(args: Args) -> crate::Result<()> {
     if let Some(Study::Numerics) = args.study {
-        return print(&crate::stability::numerics::study(args.ref_nsub.max(1))?);
+        return print(&crate::studies::stability::numerics::study(
+            args.ref_nsub.max(1),
+        )?);
     }
     if let (Some(name), Some(key), Some(range)) = (&args.scenario, &args.critical, &args.range) {
-        let r = crate::stability::coupled::critical(
+        let r = crate::studies::stability::coupled::critical(
             name,
             &args.sets,
             key,

@@ -1,8 +1,8 @@
 //! `maglev sweep SPEC.toml --out DIR [--jobs N] [--shard I/N]`, `maglev sweep merge DIR…
-//! --out DIR` and `maglev sweep SPEC --emit slurm --out DIR`: parses, calls `crate::sweep`,
+//! --out DIR` and `maglev sweep SPEC --emit slurm --out DIR`: parses, calls `crate::studies::sweep`,
 //! reports on stderr.
 
-use crate::sweep::{self, runs::Shard, slurm, Options, Spec};
+use crate::studies::sweep::{self, runs::Shard, slurm, Options, Spec};
 use crate::{Error, Result};
 use std::io::IsTerminal;
 use std::path::PathBuf;

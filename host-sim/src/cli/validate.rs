@@ -1,10 +1,10 @@
 //! `maglev validate [--out DIR]`: the paper's validation (§4.3–4.5, Fig. 5) through
-//! [`crate::validation`]; writes report.md, validation.json and the figures, and exits
+//! [`crate::studies::validation`]; writes report.md, validation.json and the figures, and exits
 //! non-zero when a criterion fails.
 
 use crate::cli::progress::Progress;
 use crate::output::owned;
-use crate::validation::{validate, RUNS};
+use crate::studies::validation::{validate, RUNS};
 use crate::Error;
 use std::path::PathBuf;
 
@@ -31,7 +31,7 @@ pub struct Args {
 }
 
 pub fn run_cmd(args: Args) -> anyhow::Result<()> {
-    crate::validation::check_sets(&args.sets)?;
+    crate::studies::validation::check_sets(&args.sets)?;
     owned::check(&args.out, &[&args.report, "validation.json"])?;
     let mut bar = Progress::steps("validate", RUNS);
     let out = validate(&args.sets, args.scheme, |what| bar.step(what))?;

@@ -64,7 +64,7 @@
 //! at x = 200 and an independently written second evaluation of (G1) for x = 0.5 … 100,
 //! ν = 0.25, 1/3, 0.45, ξ = 0.01, 0.05 (docs/ground.md has the measured table).
 
-use crate::fe::soil::Soil;
+use crate::physics::fe::soil::Soil;
 use crate::Error;
 use rustfft::num_complex::Complex64 as C;
 

@@ -24,7 +24,7 @@
 //!   0.5) for every (bin, pier–receiver distance) pair.
 
 use super::green::{complex_shear_modulus, Green};
-use crate::fe::soil::Soil;
+use crate::physics::fe::soil::Soil;
 use crate::probes::{Recorder, StepView};
 use crate::{Error, Result};
 use realfft::RealFftPlanner;

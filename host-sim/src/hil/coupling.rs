@@ -18,8 +18,8 @@
 use super::board::{force, SensorFault, Sensors};
 use super::link::Link;
 use super::HilSettings;
+use crate::physics::vehicle::Train;
 use crate::simulation::{magnet_gaps, Magnets, Settings, WheelGaps};
-use crate::vehicle::Train;
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::Status;

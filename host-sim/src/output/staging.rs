@@ -29,6 +29,10 @@ use std::path::{Path, PathBuf};
 /// The file that marks a directory as a maglev run's output.
 pub const MARKER: &str = ".maglev-output";
 
+/// The file that marks a directory as a sweep's (written by `studies/sweep/store.rs`; here so
+/// the output layer can recognise a sweep without naming the study above it).
+pub const SWEEP_MARKER: &str = ".maglev-sweep";
+
 /// The file that marks a staging directory (a run being written) as maglev's.
 pub const PARTIAL: &str = ".maglev-partial";
 
@@ -53,7 +57,7 @@ impl Kind {
                 "maglev run output; the whole directory is replaced by the next run\n",
             ),
             Kind::Sweep => (
-                crate::sweep::store::MARKER,
+                SWEEP_MARKER,
                 "a maglev sweep",
                 "maglev sweep (merged): runs/ holds one record per finished run\n",
             ),
@@ -376,7 +380,7 @@ mod tests {
         let (run, sweep) = (root.join("run"), root.join("sweep"));
         Staging::new(&run).unwrap().finish().unwrap();
         Staging::sweep(&sweep).unwrap().finish().unwrap();
-        assert!(sweep.join(crate::sweep::store::MARKER).exists());
+        assert!(sweep.join(SWEEP_MARKER).exists());
         assert!(
             !sweep.join(MARKER).exists(),
             "a merged sweep marked as a run"

@@ -4,7 +4,7 @@
 //! core; never a host copy of a law.
 
 use super::{Coil, Magnets, Settings, WheelGaps};
-use crate::vehicle::Train;
+use crate::physics::vehicle::Train;
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::guidance;
@@ -273,7 +273,7 @@ fn coils(law: &Law<f64>, o: &[Output<f64>]) -> [Coil; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::vehicle::{Fig1, VehicleModel};
+    use crate::physics::vehicle::{Fig1, VehicleModel};
     use maglev_core::levitation::{Params, Scheme};
 
     fn noise(s: &mut u64) -> f64 {

@@ -18,9 +18,9 @@ use super::{
     contact_force, magnet_gaps, written, CoilRange, CoilRanges, GapRanges, Magnets, MovingLoad,
     Outcome, Profiles, Settings, WheelGaps,
 };
-use crate::guideway::{Guideway, PointLoad};
+use crate::physics::guideway::{Guideway, PointLoad};
+use crate::physics::vehicle::Train;
 use crate::probes::{Recorder, StepView, Wheels};
-use crate::vehicle::Train;
 use crate::{Error, Result};
 
 /// What rides over the guideway: a train's magnet wheels and contacts, and constant moving

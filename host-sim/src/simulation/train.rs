@@ -1,12 +1,12 @@
 //! The train's side of a coupled step: one prefactored Newmark solve per car
-//! ([`crate::vehicle_integrator::VehicleIntegrator`]), never a matrix over the whole train (docs/model.md §10).
+//! ([`crate::physics::vehicle_integrator::VehicleIntegrator`]), never a matrix over the whole train (docs/model.md §10).
 //!
 //! Why per car: cars share no spring, so the train's M, C, K are block-diagonal; a car of
 //! 13 DOFs costs the same whether it runs alone or as car 12 of 12, and the train's cost grows
 //! linearly in its cars. The cars may be advanced on rayon's pool ([`Train::parallel`]).
 
-use crate::vehicle::Train;
-use crate::vehicle_integrator::VehicleIntegrator;
+use crate::physics::vehicle::Train;
+use crate::physics::vehicle_integrator::VehicleIntegrator;
 use crate::{Error, Result};
 use nalgebra::{Cholesky, DVector};
 use rayon::prelude::*;
@@ -57,7 +57,7 @@ impl TrainState {
     /// t = 0 (N, compressive, zero when lifted off). `forcing` is each contact's
     /// `k·(z_g − r_z)` at t = 0, the load the coupling puts on the car's contact DOF.
     ///
-    /// The car's K here is [`crate::vehicle::VehicleModel::k_on_rigid_rail`], the matrix the
+    /// The car's K here is [`crate::physics::vehicle::VehicleModel::k_on_rigid_rail`], the matrix the
     /// car integrates, so `K q0 = f(0)` makes the first step start with zero acceleration.
     /// A contact can only push: a contact whose spring would pull at q0 is dropped from the
     /// static problem (its spring and forcing out, its static load P0 taken off the car) and

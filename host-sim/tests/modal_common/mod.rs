@@ -2,8 +2,8 @@
 //! crossing it. Nothing here computes an expected value.
 #![allow(dead_code)]
 
-use maglev_host_sim::guideway::{BeamSection, Guideway, PointLoad};
-use maglev_host_sim::modal::ModalGuideway;
+use maglev_host_sim::physics::guideway::{BeamSection, Guideway, PointLoad};
+use maglev_host_sim::physics::modal::ModalGuideway;
 
 /// §4.2 span length (m), docs/model.md §9.
 pub const L: f64 = 25.0;

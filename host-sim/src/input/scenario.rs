@@ -1,0 +1,672 @@
+//! Scenarios as written: TOML files whose every key names its unit, bundled ones by name,
+//! `--set` overrides. Nothing here converts or checks values; [`crate::input::case::Case::new`]
+//! resolves a scenario to SI and checks it, once.
+
+use crate::{Error, Result};
+use maglev_core::gap::Geometry;
+use maglev_core::law::state::StateParams;
+use maglev_core::{Interpolation, LawName, Scheme};
+use serde::{Deserialize, Serialize};
+
+/// Bundled scenarios: (name, TOML text).
+pub const BUNDLED: [(&str, &str); 5] = [
+    ("paper-4.2", include_str!("../../scenarios/paper-4.2.toml")),
+    ("paper-5", include_str!("../../scenarios/paper-5.toml")),
+    (
+        "train-forces",
+        include_str!("../../scenarios/train-forces.toml"),
+    ),
+    (
+        "moving-force",
+        include_str!("../../scenarios/moving-force.toml"),
+    ),
+    ("unit", include_str!("../../scenarios/unit.toml")),
+];
+
+/// Short `--set` keys and the scenario key each stands for.
+pub const SHORT_KEYS: [(&str, &str); 13] = [
+    ("train", "train.kind"),
+    ("speed", "run.speed_m_per_s"),
+    ("model", "run.model"),
+    ("elements", "run.elements_per_span"),
+    ("modes", "run.modes"),
+    ("dt", "run.dt_s"),
+    ("t_end", "run.t_end_s"),
+    ("nsub", "controller.nsub"),
+    ("alpha", "controller.alpha"),
+    ("law", "controller.law"),
+    ("scheme", "controller.scheme"),
+    ("seed", "irregularity.seed"),
+    ("geometry", "vehicle.geometry"),
+];
+
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct RunSection {
+    pub model: Model,
+    pub speed_m_per_s: f64,
+    pub dt_s: f64,
+    #[serde(default = "default_elements")]
+    pub elements_per_span: usize,
+    #[serde(default = "default_modes")]
+    pub modes: usize,
+    pub t_end_s: Option<f64>,
+    #[serde(default = "default_tolerance")]
+    pub tolerance_m: f64,
+    #[serde(default = "default_max_iterations")]
+    pub max_iterations: u32,
+}
+fn default_elements() -> usize {
+    20
+}
+fn default_modes() -> usize {
+    crate::physics::modal::DEFAULT_MODES
+}
+fn default_tolerance() -> f64 {
+    1e-9
+}
+fn default_max_iterations() -> u32 {
+    50
+}
+
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct BridgeSection {
+    pub spans_m: Vec<f64>,
+    pub youngs_modulus_kN_per_m2: f64,
+    pub shear_modulus_kN_per_m2: f64,
+    pub area_m2: f64,
+    pub shear_area_y_m2: f64,
+    pub shear_area_z_m2: f64,
+    pub iy_m4: f64,
+    pub iz_m4: f64,
+    pub torsion_constant_m4: f64,
+    pub mass_t_per_m: f64,
+    pub polar_mass_t_m2_per_m: Option<f64>,
+    /// `spans` (independent simply supported spans on rigid supports, the default) or
+    /// `viaduct` (the girders above on bearings, piers and footings: docs/viaduct.md; needs
+    /// `[bridge.bearings]`, `[bridge.pier]`, `[bridge.footing]` and the top-level `[soil]`).
+    #[serde(default)]
+    pub kind: BridgeKind,
+    /// Rayleigh damping of the FE spans (`[bridge.damping]`); none by default (the paper's).
+    pub damping: Option<DampingSection>,
+    pub bearings: Option<BearingsSection>,
+    pub pier: Option<PierSection>,
+    pub footing: Option<FootingSection>,
+}
+
+/// `[bridge.damping]`: Rayleigh damping `C = α·M + β·K` of the FE spans, given as the damping
+/// ratio it has at two frequencies (equal at both, lower between, higher outside).
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct DampingSection {
+    pub ratio: f64,
+    pub f1_Hz: f64,
+    pub f2_Hz: f64,
+}
+
+/// `bridge.kind`.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum BridgeKind {
+    #[default]
+    Spans,
+    Viaduct,
+}
+
+/// `[bridge.bearings]`: the two bearings at each girder end (docs/viaduct.md).
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct BearingsSection {
+    /// Vertical stiffness of one bearing.
+    pub vertical_kN_per_m: f64,
+    /// Lateral spacing of the two bearings of an end.
+    pub spacing_m: f64,
+    /// Lateral stiffness of a girder end.
+    pub lateral_kN_per_m: f64,
+    /// Longitudinal stiffness of the fixed (left) end; the right end slides.
+    pub longitudinal_kN_per_m: f64,
+    /// Height of the girder centroid above the bearing point.
+    pub drop_m: f64,
+}
+
+/// `[bridge.pier]`: a vertical Timoshenko column (`iz_m4` bends it laterally, `iy_m4`
+/// longitudinally; `shear_area_y_m2` lateral, `shear_area_z_m2` longitudinal shear).
+///
+/// The section keys repeat [`BridgeSection`]'s on purpose: a shared struct would need
+/// `#[serde(flatten)]`, which serde cannot combine with `deny_unknown_fields`, and refusing a
+/// misspelt key matters more than the repetition.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct PierSection {
+    pub height_m: f64,
+    pub elements: usize,
+    pub cap_mass_t: f64,
+    pub youngs_modulus_kN_per_m2: f64,
+    pub shear_modulus_kN_per_m2: f64,
+    pub area_m2: f64,
+    pub shear_area_y_m2: f64,
+    pub shear_area_z_m2: f64,
+    pub iy_m4: f64,
+    pub iz_m4: f64,
+    pub torsion_constant_m4: f64,
+    pub mass_t_per_m: f64,
+}
+
+/// `[bridge.footing]`: a rigid rectangular concrete footing under each pier.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct FootingSection {
+    pub along_x_m: f64,
+    pub across_y_m: f64,
+    pub thickness_m: f64,
+    pub density_t_per_m3: f64,
+}
+
+/// `[soil]`: the homogeneous half-space under the viaduct, once for both the footings
+/// (Gazetas' impedances, docs/viaduct.md) and the ground between them (the Green's function
+/// of `[ground]`, docs/ground.md).
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct SoilSection {
+    pub shear_wave_velocity_m_per_s: f64,
+    pub density_t_per_m3: f64,
+    pub poisson: f64,
+    /// Hysteretic damping ratio ξ of the soil (μ* = μ(1 + 2iξ)); needed by `[ground]`.
+    pub damping_ratio: Option<f64>,
+}
+
+/// `[ground]`: receivers on the ground surface whose vertical velocity a viaduct run writes
+/// to ground.csv (docs/ground.md): `receivers` (points `[x, y]`, m) or `distances_m` across
+/// the line at pier `pier`.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct GroundSection {
+    pub receivers: Option<Vec<[f64; 2]>>,
+    pub distances_m: Option<Vec<f64>>,
+    pub pier: Option<usize>,
+}
+
+/// `[vehicle]` / `[train]`: what runs over the guideway, by `kind`. Each kind's keys are a
+/// struct of their own, read after the tag ([`VehicleSection::from_table`]), so a wrong value
+/// is named by its key (`vehicle.body_mass_t`), not only by the section.
+#[derive(Serialize, Debug, Clone)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum VehicleSection {
+    Fig1(Fig1Keys),
+    MovingForce(MovingForceKeys),
+    /// The paper's §5 maglev train: `cars` Fig. 6 carriages at their pitch (docs/cars.md),
+    /// every magnet with its own controller (`[controller]`).
+    Maglev(MaglevKeys),
+    /// The paper's §5 wheel/rail train: `cars` cars of 25 m on Hertz contacts (docs/cars.md).
+    WheelRail(WheelRailKeys),
+    /// Constant vertical moving loads (`[train] kind = "forces"`): one car's loads, repeated.
+    Forces(ForcesKeys),
+    /// One levitation magnet carrying a body through a spring and a damper (`kind = "unit"`),
+    /// for the levitation analysis and standstill runs (docs/levitation.md).
+    Unit(UnitKeys),
+}
+
+/// `kind = "fig1"`: the Fig. 1 car (docs/model.md §5).
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct Fig1Keys {
+    pub body_mass_t: f64,
+    pub jx_t_m2: f64,
+    pub jy_t_m2: f64,
+    pub jz_t_m2: f64,
+    pub spring_kN_per_m: f64,
+    pub damper_kN_s_per_m: f64,
+    pub half_length_m: f64,
+    pub half_width_m: f64,
+    pub offset_y_m: f64,
+    pub target_height_m: f64,
+    pub body_height_m: f64,
+    pub wheel_mass_kg: f64,
+    /// How the magnets face their rails (docs/model.md §2); default `paper`.
+    #[serde(default)]
+    pub geometry: Geometry,
+    /// Identical cars, one behind the other (default 1).
+    #[serde(default = "one")]
+    pub repeat: usize,
+    /// Spacing of the repeated cars, leading wheel to leading wheel (m); needed when
+    /// `repeat > 1`, at least the wheelbase `2·half_length_m`.
+    pub car_length_m: Option<f64>,
+}
+
+/// `kind = "moving-force"`: one constant vertical force.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct MovingForceKeys {
+    pub force_kN: f64,
+    pub offset_y_m: f64,
+    pub offset_z_m: f64,
+}
+
+/// `kind = "maglev"`.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct MaglevKeys {
+    #[serde(default = "twelve")]
+    pub cars: usize,
+    /// Mass of each magnet node (kg); default 0, the paper's massless nodes (docs/cars.md).
+    #[serde(default)]
+    pub wheel_mass_kg: f64,
+    /// How the magnets face their rails (docs/model.md §2); default `paper`.
+    #[serde(default)]
+    pub geometry: Geometry,
+}
+
+/// `kind = "wheel-rail"`.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct WheelRailKeys {
+    #[serde(default = "twelve")]
+    pub cars: usize,
+}
+
+/// `kind = "forces"`.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct ForcesKeys {
+    /// One car's loads (kN, downward).
+    pub loads_kN: Vec<f64>,
+    /// Each load's distance behind the car's leading load (m).
+    pub offsets_m: Vec<f64>,
+    /// Identical cars, one behind the other (default 1).
+    #[serde(default = "one")]
+    pub repeat: usize,
+    /// Spacing of the repeated cars (m); needed when `repeat > 1`.
+    pub car_length_m: Option<f64>,
+    /// Offset of the loads from the beam axis, Y and Z (m); default on the axis.
+    #[serde(default)]
+    pub offset_y_m: f64,
+    #[serde(default)]
+    pub offset_z_m: f64,
+}
+
+/// `kind = "unit"`: one magnet of `magnet_mass_kg` carrying a body of `body_mass_t` through a
+/// spring and a damper, static load (magnet + body)·g, at `position_m` along the guideway.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct UnitKeys {
+    pub magnet_mass_kg: f64,
+    /// The body (t); 0, the default, leaves the magnet alone.
+    #[serde(default)]
+    pub body_mass_t: f64,
+    /// Magnet–body spring and damper; needed with a body.
+    #[serde(default)]
+    pub spring_kN_per_m: f64,
+    #[serde(default)]
+    pub damper_kN_s_per_m: f64,
+    /// Where the magnet stands at t = 0 along the guideway (m from the left end of span 1);
+    /// it moves on at `run.speed_m_per_s` (0: standstill).
+    #[serde(default)]
+    pub position_m: f64,
+    /// How the magnet faces its rail (docs/model.md §2); default `ems`.
+    #[serde(default = "ems")]
+    pub geometry: Geometry,
+}
+
+fn ems() -> Geometry {
+    Geometry::Ems
+}
+
+/// The `kind` words, in the enum's order.
+const VEHICLE_KINDS: &[&str] = &[
+    "fig1",
+    "moving-force",
+    "maglev",
+    "wheel-rail",
+    "forces",
+    "unit",
+];
+
+impl VehicleSection {
+    /// The section from its table: the `kind` tag, then that kind's keys, each error naming
+    /// the key it is about (`invalid type: … in `body_mass_t``).
+    fn from_table(mut t: toml::Table) -> std::result::Result<Self, String> {
+        use serde::de::Error as _;
+        let kind = match t.remove("kind") {
+            Some(toml::Value::String(k)) => k,
+            Some(other) => return Err(format!("kind: expected a string, got {other}")),
+            None => return Err(toml::de::Error::missing_field("kind").to_string()),
+        };
+        // toml's own deserializer names the key of a wrong value ("… in `body_mass_t`").
+        fn keys<T: serde::de::DeserializeOwned>(t: toml::Table) -> std::result::Result<T, String> {
+            T::deserialize(toml::Value::Table(t)).map_err(|e| e.to_string())
+        }
+        Ok(match kind.as_str() {
+            "fig1" => VehicleSection::Fig1(keys(t)?),
+            "moving-force" => VehicleSection::MovingForce(keys(t)?),
+            "maglev" => VehicleSection::Maglev(keys(t)?),
+            "wheel-rail" => VehicleSection::WheelRail(keys(t)?),
+            "forces" => VehicleSection::Forces(keys(t)?),
+            "unit" => VehicleSection::Unit(keys(t)?),
+            other => return Err(toml::de::Error::unknown_variant(other, VEHICLE_KINDS).to_string()),
+        })
+    }
+}
+
+impl<'de> Deserialize<'de> for VehicleSection {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let table = toml::Table::deserialize(d)?;
+        VehicleSection::from_table(table).map_err(serde::de::Error::custom)
+    }
+}
+
+fn one() -> usize {
+    1
+}
+
+fn twelve() -> usize {
+    12
+}
+
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct ControllerSection {
+    pub i0_A: f64,
+    pub h0_m: f64,
+    pub r0_ohm: f64,
+    pub kp_V_m_per_A: f64,
+    pub ki_V_m_per_A_s: f64,
+    pub alpha: f64,
+    pub nsub: u32,
+    pub interp: Interpolation,
+    pub vmax_V: f64,
+    /// `paper` (Eq. 8–14 alone, the default), `gap-loop` (the outer gap loop of
+    /// `maglev_core::gap_control` at its designed gains around the paper's law) or `state`
+    /// (state feedback with the gains of `[controller.state]`).
+    #[serde(default)]
+    pub law: LawName,
+    /// `paper` (Eq. 14 with `nsub` sub-steps, the default) or `accurate` (Gauss–Legendre).
+    #[serde(default)]
+    pub scheme: Scheme,
+    /// The state law's gains and timing (`[controller.state]`), used when `law = "state"`.
+    pub state: Option<StateSection>,
+}
+
+/// `[controller.state]`: the state law's gains (units in the keys, as
+/// `maglev_core::law::state::StateParams` names them), or `design = true` to have them
+/// designed from the case's plant (docs/levitation.md); timing and supply either way.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct StateSection {
+    pub kp_V_per_m: Option<f64>,
+    pub kd_V_s_per_m: Option<f64>,
+    pub ka_V_s2_per_m: Option<f64>,
+    pub ki_V_per_m_s: Option<f64>,
+    pub kc_V_per_A: Option<f64>,
+    pub vmax_V: f64,
+    #[serde(default = "rate")]
+    pub rate_Hz: f64,
+    #[serde(default = "observer")]
+    pub observer_Hz: f64,
+    #[serde(default)]
+    pub design: bool,
+}
+
+fn rate() -> f64 {
+    StateParams::RATE_HZ
+}
+
+fn observer() -> f64 {
+    StateParams::OBSERVER_HZ
+}
+
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct IrregularitySection {
+    pub enabled: bool,
+    pub seed: u64,
+}
+
+/// A scenario as written (units in the key names).
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    pub run: RunSection,
+    pub bridge: BridgeSection,
+    /// `[vehicle]`, or `[train]` (the same section under the name a train reads better by).
+    #[serde(alias = "train")]
+    pub vehicle: VehicleSection,
+    pub controller: Option<ControllerSection>,
+    pub irregularity: Option<IrregularitySection>,
+    pub output: Option<OutputSection>,
+    /// The half-space under the viaduct (`[soil]`).
+    pub soil: Option<SoilSection>,
+    /// Ground receivers (`[ground]`).
+    pub ground: Option<GroundSection>,
+}
+
+/// `[output]`: what a run records.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSection {
+    /// Probe names (`crate::probes`), one response.csv column each, in this order.
+    pub probes: Vec<String>,
+}
+
+/// Which guideway model runs.
+#[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Model {
+    Fe,
+    Modal,
+    /// A guideway that never moves (the vehicle on a rigid, irregular rail).
+    Rigid,
+}
+
+/// Loads a scenario by bundled name or path and applies `key=value` overrides (not checked:
+/// [`crate::input::case::Case::new`] does that).
+pub fn load(name_or_path: &str, sets: &[String]) -> Result<Scenario> {
+    let text = match BUNDLED.iter().find(|(n, _)| *n == name_or_path) {
+        Some((_, t)) => t.to_string(),
+        None => crate::input::read_text(std::path::Path::new(name_or_path)).map_err(|e| {
+            let names: Vec<&str> = BUNDLED.iter().map(|(n, _)| *n).collect();
+            Error::invalid(
+                "scenario",
+                format!(
+                    "`{name_or_path}` is neither a bundled name ({}) nor a readable file: {e}",
+                    names.join(", ")
+                ),
+            )
+        })?,
+    };
+    parse(&text, name_or_path, sets)
+}
+
+/// Parses scenario text with overrides.
+pub fn parse(text: &str, name: &str, sets: &[String]) -> Result<Scenario> {
+    let mut table: toml::Table = toml::from_str(text)
+        .map_err(|e| Error::parse(format!("scenario {name}"), one_line(&e.to_string())))?;
+    let base = table.clone();
+    for set in sets {
+        apply_set(&mut table, set)?;
+    }
+    table.try_into().map_err(|e: toml::de::Error| {
+        // Name the override that made the text unreadable, when one did: serde's path stops
+        // at the table for an enum's variant (`in vehicle` for `--set geometry=foo`).
+        let culprit = (0..sets.len()).find(|&i| {
+            let mut t = base.clone();
+            sets[..=i].iter().all(|s| apply_set(&mut t, s).is_ok())
+                && t.try_into::<Scenario>().is_err()
+        });
+        let what = match culprit {
+            Some(i) => {
+                let key = sets[i]
+                    .split_once('=')
+                    .map_or(&sets[i][..], |(k, _)| k.trim());
+                match full_key(key) {
+                    full if full != key => format!("--set {key} ({full}), scenario {name}"),
+                    _ => format!("--set {key}, scenario {name}"),
+                }
+            }
+            None => format!("scenario {name}"),
+        };
+        Error::parse(what, one_line(&e.to_string()))
+    })
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// `section.key` of a `--set` key: a short key's full name, any other key as written.
+fn full_key(key: &str) -> &str {
+    SHORT_KEYS
+        .iter()
+        .find(|(s, _)| *s == key)
+        .map_or(key, |(_, f)| *f)
+}
+
+/// Most names a `--set` key joins by dots: one more than the deepest key today
+/// (`bridge.pier.height_m`), so a sub-table added later still fits. A deeper key is refused
+/// before any table is made: one of 60 000 names nested tables that deep and overflowed the
+/// stack when they were read (the input fuzz target's finding).
+pub const MAX_KEY_PARTS: usize = 4;
+
+fn apply_set(table: &mut toml::Table, set: &str) -> Result<()> {
+    let (key, value) = set
+        .split_once('=')
+        .ok_or_else(|| Error::invalid(format!("--set `{set}`"), "expected key=value"))?;
+    let key = key.trim();
+    let full = full_key(key);
+    let parts = full.split('.').count();
+    if parts > MAX_KEY_PARTS || full.split('.').any(|p| p.trim().is_empty()) {
+        return Err(Error::invalid(
+            format!("--set {key}"),
+            format!(
+                "a key is at most {MAX_KEY_PARTS} names joined by dots (section.table.key), \
+                 none of them empty; got {parts}"
+            ),
+        ));
+    }
+    let (section, field) = full.split_once('.').ok_or_else(|| {
+        let shorts: Vec<&str> = SHORT_KEYS.iter().map(|(s, _)| *s).collect();
+        Error::invalid(
+            format!("--set {key}"),
+            format!(
+                "unknown key (use one of {} or section.key)",
+                shorts.join(", ")
+            ),
+        )
+    })?;
+    let value = value.trim();
+    // A TOML value if it parses as one (numbers, booleans, inf), else a bare string.
+    let parsed: toml::Value = toml::from_str::<toml::Table>(&format!("v = {value}"))
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| toml::Value::String(value.to_string()));
+    // `[vehicle]` and `[train]` are one section under two names: use the one the text has.
+    let section = match section {
+        "vehicle" | "train" if table.contains_key("train") => "train",
+        "vehicle" | "train" => "vehicle",
+        other => other,
+    };
+    // `section.sub.key`: walk (or create) the tables down to the last key.
+    let mut path: Vec<&str> = field.split('.').collect();
+    let leaf = path.pop().unwrap_or(field);
+    let mut sec = table
+        .entry(section.to_string())
+        .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+        .as_table_mut()
+        .ok_or_else(|| Error::invalid(format!("--set {section}"), "is not a section"))?;
+    for (depth, name) in path.iter().enumerate() {
+        sec = sec
+            .entry(name.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+            .as_table_mut()
+            .ok_or_else(|| {
+                let at = [&[section][..], &path[..=depth]].concat().join(".");
+                Error::invalid(format!("--set {at}"), "is not a section")
+            })?;
+    }
+    // Integers given where floats are expected (speed=100) are fine for serde; floats given
+    // for integers are not, which is the error we want.
+    sec.insert(leaf.to_string(), parsed);
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overrides_reach_their_keys_and_unknown_keys_are_named() {
+        let s = load("paper-4.2", &["speed=150".into(), "model=modal".into()]).unwrap();
+        assert_eq!(s.run.speed_m_per_s, 150.0);
+        assert_eq!(s.run.model, Model::Modal);
+        for (set, key) in [
+            ("colour=red", "colour"),
+            ("run.sped=3", "sped"),
+            ("model=beam", "run.model"),
+            ("law=pid", "controller.law"),
+            ("scheme=exact", "controller.scheme"),
+            ("geometry=foo", "--set geometry (vehicle.geometry)"),
+            ("run.elements_per_span=4.5", "--set run.elements_per_span"),
+        ] {
+            let e = load("paper-4.2", &[set.into()]).unwrap_err().to_string();
+            assert!(e.contains(key), "{set}: {e}");
+            assert!(!e.contains('\n'), "{set}: {e}");
+        }
+        let e = load("nonexistent-scenario", &[]).unwrap_err().to_string();
+        assert!(e.contains("paper-4.2"), "{e}");
+    }
+
+    /// A key of 60 000 names once nested tables so deep that reading them overflowed the
+    /// stack (an abort, found by the input fuzz target); empty names made tables named "".
+    #[test]
+    fn deep_or_empty_keys_are_refused_in_one_short_line() {
+        let deep = format!("run.{}=1", vec!["a"; 60_000].join("."));
+        for set in [
+            deep.as_str(),
+            "run..dt_s=1",
+            "run.dt_s.=1",
+            "bridge.pier.a.b.c=1",
+        ] {
+            let e = load("paper-4.2", &[set.into()]).unwrap_err().to_string();
+            assert!(
+                e.starts_with("--set ") && e.contains("at most 4 names"),
+                "{e}"
+            );
+            assert!(!e.contains('\n') && e.len() < 400, "{}", e.len());
+        }
+        // The deepest keys there are still work.
+        load("paper-5", &["bridge.pier.height_m=12".into()]).unwrap();
+    }
+
+    /// A wrong value inside the tagged `[vehicle]` / `[train]` section is named by its key, as
+    /// in every other section (serde's internally tagged enums lose it: "in `vehicle`" only).
+    #[test]
+    fn a_wrong_vehicle_value_in_a_file_names_its_key() {
+        for (name, text) in BUNDLED {
+            let (key, bad) = match name {
+                "paper-4.2" => ("body_mass_t", "body_mass_t = \"x\""),
+                "paper-5" => ("cars", "cars = -3"),
+                "train-forces" => ("loads_kN", "loads_kN = 5"),
+                "unit" => ("magnet_mass_kg", "magnet_mass_kg = true"),
+                _ => ("force_kN", "force_kN = [1]"),
+            };
+            let line = text
+                .lines()
+                .find(|l| l.starts_with(&format!("{key} ")))
+                .unwrap_or_else(|| panic!("{name} has no {key} line"));
+            let e = parse(&text.replace(line, bad), name, &[])
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(&format!("`{key}`")), "{name}: {e}");
+        }
+    }
+}

@@ -1,0 +1,158 @@
+//! The scenario's vehicle over its flexible girder (issue 26 point 4): the closed-loop poles
+//! of the linear model with the span's bending modes coupled at the magnets
+//! ([`super::girder`], [`super::vehicle::VehiclePlant::on_girder`]), and the girder value at
+//! which that model loses stability (`maglev stability --critical KEY --range LO HI`).
+//!
+//! The law is the case's as resolved once (designed on the rigid guideway,
+//! `crate::studies::design`): the coupled analysis and every point of the critical search analyse
+//! those same gains, never a re-design.
+
+use crate::input::case::Case;
+use crate::input::scenario::Model;
+use crate::studies::stability::girder::{girder_modes, GirderMode};
+use crate::studies::stability::report::{min_damping, vehicle_of};
+use crate::studies::stability::vehicle::{VehiclePlant, Verdict};
+use serde::Serialize;
+
+/// Default number of vertical bending modes per span (`--girder-modes`).
+pub const GIRDER_MODES: usize = 8;
+
+/// Points of the critical search's scan over `[LO, HI]` (bisection follows).
+const SCAN: usize = 32;
+
+/// The coupled model's verdict.
+#[derive(Debug, Serialize)]
+pub struct Coupled {
+    /// Where the modes come from.
+    pub source: String,
+    /// Closed-loop poles `[re, im]` (1/s), sorted by descending real part.
+    pub poles: Vec<[f64; 2]>,
+    pub max_real_part: f64,
+    pub min_damping_ratio: f64,
+    pub stable: bool,
+}
+
+/// The girder modes of `case` under its magnets and the coupled verdict; `None` on a rigid
+/// guideway (`run.model = "rigid"`) and for a moving vehicle (`speed > 0`: the modes
+/// under a moving magnet change with time, a linear time-invariant model does not hold).
+pub fn coupled(case: &Case, count: usize) -> crate::Result<Option<(Vec<GirderMode>, Coupled)>> {
+    if case.model == Model::Rigid || case.speed != 0.0 {
+        return Ok(None);
+    }
+    let (v, _, _) = vehicle_of(case)?;
+    let modes = girder_modes(case, &v.wheels, count)?;
+    let inner = case.controller.ok_or_else(|| {
+        crate::Error::invalid(
+            "controller",
+            "the coupled analysis needs a [controller] section",
+        )
+    })?;
+    let plant = VehiclePlant::on_girder(&v, &inner, &case.law()?, case.geometry, &modes)?;
+    let vd: Verdict = plant.verdict()?;
+    let source = format!(
+        "the FE span's first {count} vertical bending modes ({} elements per span), each \
+         checked against the closed-form Timoshenko frequency (fe_vs_closed_form)",
+        case.elements_per_span
+    );
+    let c = Coupled {
+        source,
+        poles: vd.poles.iter().map(|p| [p.re, p.im]).collect(),
+        max_real_part: vd.max_real_part,
+        min_damping_ratio: min_damping(&vd.poles),
+        stable: vd.stable,
+    };
+    Ok(Some((modes, c)))
+}
+
+/// `--critical` as reported.
+#[derive(Debug, Serialize)]
+pub struct Critical {
+    pub key: String,
+    pub range: [f64; 2],
+    /// The coupled `max_real_part` (1/s) at both ends of the range.
+    pub max_real_part_at_range: [f64; 2],
+    /// The value where `max_real_part` crosses zero; null: none in range.
+    pub critical: Option<f64>,
+    pub note: String,
+}
+
+/// The value of scenario key `key` in `[lo, hi]` where the coupled model's `max_real_part`
+/// crosses zero, with the law of `name` resolved once at the scenario's own values.
+///
+/// Method: `max_real_part` on [`SCAN`] points (log-spaced if `lo > 0`, else even) brackets the
+/// first sign change; bisection narrows it to 1e-9 of the range. A stable or unstable window
+/// narrower than one scan step could be missed.
+pub fn critical(
+    name: &str,
+    sets: &[String],
+    key: &str,
+    [lo, hi]: [f64; 2],
+    count: usize,
+) -> crate::Result<Critical> {
+    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+        return Err(crate::Error::invalid(
+            "--range",
+            format!("needs finite LO < HI, got {lo} {hi}"),
+        ));
+    }
+    let base = crate::studies::design::load(name, sets)?;
+    let at = |x: f64| -> crate::Result<f64> {
+        let mut s = sets.to_vec();
+        s.push(format!("{key}={x:?}"));
+        let mut c = Case::load(name, &s)?;
+        c.law = base.law;
+        match coupled(&c, count)? {
+            Some((_, v)) => Ok(v.max_real_part),
+            None => Err(crate::Error::invalid(
+                "run.model",
+                "--critical needs a flexible guideway (fe or modal) at speed 0",
+            )),
+        }
+    };
+    let point = |i: usize| {
+        let f = i as f64 / (SCAN - 1) as f64;
+        if lo > 0.0 {
+            lo * (hi / lo).powf(f)
+        } else {
+            lo + (hi - lo) * f
+        }
+    };
+    let ends = [at(lo)?, at(hi)?];
+    let mut prev = (lo, ends[0]);
+    let mut found = None;
+    for i in 1..SCAN {
+        let x = if i == SCAN - 1 { hi } else { point(i) };
+        let r = if i == SCAN - 1 { ends[1] } else { at(x)? };
+        if (r >= 0.0) != (prev.1 >= 0.0) {
+            let (mut a, mut b, ra) = (prev.0, x, prev.1);
+            while b - a > 1e-9 * (hi - lo) {
+                let m = 0.5 * (a + b);
+                if (at(m)? >= 0.0) == (ra >= 0.0) {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            found = Some(0.5 * (a + b));
+            break;
+        }
+        prev = (x, r);
+    }
+    let note = match found {
+        Some(x) => format!(
+            "max_real_part crosses zero at {key} = {x:e}, {} below it",
+            if ends[0] >= 0.0 { "unstable" } else { "stable" }
+        ),
+        None => format!(
+            "no crossing in [{lo:e}, {hi:e}] (scanned at {SCAN} points): {}",
+            if ends[0] >= 0.0 { "unstable" } else { "stable" }
+        ),
+    };
+    Ok(Critical {
+        key: key.to_string(),
+        range: [lo, hi],
+        max_real_part_at_range: ends,
+        critical: found,
+        note,
+    })
+}

@@ -1,0 +1,278 @@
+//! The linearised stability of a whole case's vehicle (`maglev stability --scenario`): every
+//! magnet under the case's law and geometry, the critical magnet mass, each magnet's plant
+//! and margins (docs/levitation.md), and for the gap loop its designed gains with the
+//! per-magnet loop poles.
+
+use crate::input::case::{Case, TrainCase};
+use crate::physics::vehicle::{Unit, VehicleModel};
+use crate::studies::stability::coupled::{coupled, Coupled};
+use crate::studies::stability::girder::GirderMode;
+use crate::studies::stability::margins::{margins, Margins};
+use crate::studies::stability::vehicle::VehiclePlant;
+use crate::studies::stability::Complex;
+use maglev_core::law::state::StateParams;
+use maglev_core::levitation::GRAVITY;
+use maglev_core::{LawKind, Params};
+use serde::Serialize;
+
+/// One magnet's plant as the analysis used it (SI).
+#[derive(Debug, Serialize)]
+#[allow(non_snake_case)]
+pub struct PlantReport {
+    pub magnet: String,
+    /// Mass of the node the magnet acts on (kg) and its static load (N).
+    pub mass_kg: f64,
+    pub static_load_N: f64,
+    /// Coil time constant `τ = 2·p0·h0/(R0·i0²)` (s, docs/model.md Eq. 9), nominal gap,
+    /// current, resistance and voltage `R0·i0`.
+    pub coil_tau_s: f64,
+    pub h0_m: f64,
+    pub i0_A: f64,
+    pub r0_ohm: f64,
+    pub v_base_V: f64,
+    /// The supply bound of the law (V; the state law's, else the controller's; null: none).
+    pub vmax_V: Option<f64>,
+    /// The period at which the law updates the coil voltage (s).
+    pub control_period_s: f64,
+}
+
+/// The gap loop's gains as reported (per unit; SI seconds).
+#[derive(Debug, Serialize)]
+pub struct GainsReport {
+    pub kp: f64,
+    pub kd_s: f64,
+    pub tf_s: f64,
+    pub x_ref_max: f64,
+    /// The reference delay the design assumed (s): the scenario's step, the outer loop's hold.
+    pub design_delay_s: f64,
+    /// The vehicle's spectral abscissa with that delay (first-order Padé, 1/s).
+    pub sampled_max_real_part: f64,
+    /// Wheel 1's per-magnet loops with these gains (levitation; guidance pair's differential
+    /// mode), the plants the design works on (1/s).
+    pub levitation_loop_poles: Vec<Complex>,
+    pub guidance_loop_poles: Vec<Complex>,
+}
+
+/// `stability --scenario`: the scenario's vehicle, all magnets, rigid rail (SI, 1/s).
+#[derive(Debug, Serialize)]
+pub struct ScenarioReport {
+    pub scenario: String,
+    pub geometry: &'static str,
+    pub law: &'static str,
+    pub magnet_mass_kg: f64,
+    pub states: usize,
+    pub vehicle_poles: Vec<Complex>,
+    pub zero_poles: usize,
+    pub note: String,
+    pub max_real_part: f64,
+    pub stable: bool,
+    pub critical_magnet_mass_kg: Option<f64>,
+    pub gap_loop: Option<GainsReport>,
+    /// Each magnet's plant.
+    pub plant: Vec<PlantReport>,
+    /// The state law's gains in scenario form (`[controller.state]`); null for other laws.
+    pub gains: Option<StateParams>,
+    /// Closed-loop poles of the continuous model with ideal sensors, `[re, im]` (1/s).
+    pub ideal_poles: Vec<[f64; 2]>,
+    /// Smallest `−re/|s|` over the poles other than the zero poles.
+    pub min_damping_ratio: f64,
+    /// What the delay of the margins stands for.
+    pub delay_note: String,
+    /// Each magnet's loop broken at its coil voltage, the others closed, the delay in series.
+    pub margins: Vec<Margins>,
+    /// The flexible span's bending modes under the magnets (null on a rigid guideway,
+    /// [`crate::studies::stability::girder`]).
+    pub girder_modes: Option<Vec<GirderMode>>,
+    /// The closed loop with those modes coupled at the magnets, the same gains
+    /// ([`crate::studies::stability::coupled`]).
+    pub coupled: Option<Coupled>,
+}
+
+/// The vehicle of a case as a function of its magnet mass (kg), and that mass.
+type Builder = Box<dyn Fn(f64) -> crate::Result<VehicleModel>>;
+
+pub fn vehicle_of(case: &Case) -> crate::Result<(VehicleModel, f64, Builder)> {
+    match &case.train {
+        TrainCase::Fig1 { car, .. } => {
+            let car = car.clone();
+            let v = VehicleModel::fig1(&car, GRAVITY)?;
+            let m0 = car.wheel_mass;
+            let build: Builder = Box::new(move |m| {
+                let fig = crate::physics::vehicle::Fig1 {
+                    wheel_mass: m,
+                    ..car.clone()
+                };
+                VehicleModel::fig1(&fig, GRAVITY)
+            });
+            Ok((v, m0, build))
+        }
+        TrainCase::Unit(u) => {
+            let u = u.clone();
+            let v = VehicleModel::unit(&u, GRAVITY)?;
+            let m0 = u.magnet_mass;
+            let build: Builder = Box::new(move |m| {
+                VehicleModel::unit(
+                    &Unit {
+                        magnet_mass: m,
+                        ..u.clone()
+                    },
+                    GRAVITY,
+                )
+            });
+            Ok((v, m0, build))
+        }
+        _ => Err(crate::Error::invalid(
+            "vehicle.kind",
+            "stability --scenario needs a fig1 or unit vehicle (magnets to analyse)",
+        )),
+    }
+}
+
+/// The period at which `law` updates the coil voltage (s): the state law's control period,
+/// else the inner law's sub-step (`dt/n_sub`, or the accurate scheme's Gauss interval).
+pub fn control_period(law: &LawKind, inner: &Params, dt: f64) -> f64 {
+    match law {
+        LawKind::State(s) => dt / s.periods(dt) as f64,
+        _ => match inner.scheme {
+            maglev_core::Scheme::Paper => dt / inner.n_sub as f64,
+            maglev_core::Scheme::Accurate => {
+                dt / maglev_core::levitation::accurate::intervals(&Params { dt, ..*inner }) as f64
+            }
+        },
+    }
+}
+
+/// The delay in series in the margins: 1.5 control periods (module docs of
+/// [`crate::studies::stability::margins`]; docs/levitation.md "The delay").
+pub const DELAY_PERIODS: f64 = 1.5;
+
+/// Every magnet's margins in `plant` with the delay `delay` (s).
+pub fn all_margins(plant: &VehiclePlant, delay: f64) -> crate::Result<Vec<Margins>> {
+    (0..plant.magnets.len())
+        .map(|k| margins(plant, k, delay))
+        .collect()
+}
+
+/// Smallest damping ratio `−re/|s|` of `poles` other than the zero poles.
+pub fn min_damping(poles: &[Complex]) -> f64 {
+    poles
+        .iter()
+        .filter(|p| p.abs() >= crate::studies::stability::vehicle::ZERO_POLE)
+        .map(|p| -p.re / p.abs())
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Computes the scenario report (no printing), with `girder_modes` bending modes per span
+/// in the coupled analysis.
+pub fn scenario_report(
+    name: &str,
+    sets: &[String],
+    girder_modes: usize,
+) -> crate::Result<ScenarioReport> {
+    use crate::studies::stability::gap_loop::GapLoopPlant;
+    use crate::studies::stability::vehicle::{critical_mass, ZERO_POLE};
+    let case = crate::studies::design::load(name, sets)?;
+    let (v, magnet_mass, build) = vehicle_of(&case)?;
+    let Some(inner) = case.controller else {
+        return Err(crate::Error::invalid(
+            "controller",
+            "stability --scenario needs a [controller] section",
+        ));
+    };
+    let law = case.law()?;
+    let geometry = case.geometry;
+    let (girder, coupled) = coupled(&case, girder_modes)?.unzip();
+    let plant = VehiclePlant::new(&v, &inner, &law, geometry)?;
+    let vd = plant.verdict()?;
+    let critical = critical_mass(magnet_mass, |m| {
+        VehiclePlant::new(&build(m)?, &inner, &law, geometry)
+    })?;
+    let period = control_period(&law, &inner, case.dt);
+    let delay = DELAY_PERIODS * period;
+    let vmax = match law {
+        LawKind::State(s) => Some(s.v_max),
+        _ => Some(inner.v_max).filter(|v| v.is_finite()),
+    };
+    let plant_report = plant
+        .magnets
+        .iter()
+        .map(|m| PlantReport {
+            magnet: m.name.clone(),
+            mass_kg: m.mass,
+            static_load_N: m.p0,
+            coil_tau_s: m.tau,
+            h0_m: inner.h0,
+            i0_A: inner.i0,
+            r0_ohm: inner.r0,
+            v_base_V: inner.r0 * inner.i0,
+            vmax_V: vmax,
+            control_period_s: period,
+        })
+        .collect();
+    let margins = all_margins(&plant, delay)?;
+    let note = if vd.zero_poles > 0 {
+        format!(
+            "{} pole(s) with |s| < {ZERO_POLE:e} 1/s, expected: the paper's law holds each \
+             magnet's flux g = i/h, hence its force, not its gap, so every rigid-body position \
+             of the vehicle (v, w, θx, θy, θz) with the springs unstretched is an equilibrium; \
+             they are left out of max_real_part",
+            vd.zero_poles
+        )
+    } else {
+        "no zero pole: the gap loop restores every gap to h0".to_string()
+    };
+    let gap_loop = match law {
+        LawKind::Paper | LawKind::State(_) => None,
+        LawKind::GapLoop(g) => {
+            let loops = crate::studies::stability::design::per_magnet_loops(&v, &inner);
+            let (p, s, body) = loops
+                .first()
+                .ok_or_else(|| crate::Error::invalid("vehicle", "the vehicle has no wheel"))?;
+            let lp = |pair| -> crate::Result<Vec<Complex>> {
+                crate::studies::stability::eigenvalues(
+                    &GapLoopPlant::with_body(p, s, *body, &g, geometry, pair)?.a,
+                )
+            };
+            let sampled =
+                VehiclePlant::sampled(&v, &inner, &law, geometry, Some(case.dt))?.verdict()?;
+            Some(GainsReport {
+                design_delay_s: case.dt,
+                sampled_max_real_part: sampled.max_real_part,
+                kp: g.kp,
+                kd_s: g.kd,
+                tf_s: g.tf,
+                x_ref_max: g.x_ref_max,
+                levitation_loop_poles: lp(false)?,
+                guidance_loop_poles: lp(true)?,
+            })
+        }
+    };
+    Ok(ScenarioReport {
+        scenario: name.to_string(),
+        geometry: geometry.as_str(),
+        law: law.name().as_str(),
+        magnet_mass_kg: magnet_mass,
+        plant: plant_report,
+        gains: match law {
+            LawKind::State(s) => Some(s),
+            _ => None,
+        },
+        ideal_poles: vd.poles.iter().map(|p| [p.re, p.im]).collect(),
+        min_damping_ratio: min_damping(&vd.poles),
+        delay_note: format!(
+            "{DELAY_PERIODS} control periods of {period:e} s: the zero-order hold of the \
+             sampled voltage (half a period on average) and one period of computation"
+        ),
+        margins,
+        states: plant.a.nrows(),
+        vehicle_poles: vd.poles,
+        zero_poles: vd.zero_poles,
+        note,
+        max_real_part: vd.max_real_part,
+        stable: vd.stable,
+        critical_magnet_mass_kg: critical,
+        gap_loop,
+        girder_modes: girder,
+        coupled,
+    })
+}
