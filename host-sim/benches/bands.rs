@@ -2,7 +2,7 @@
 //! whole-record levels (one forward FFT) and the maximum running rms (one inverse FFT per band).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use maglev_host_sim::bands::{analyse, Averaging, Level, Quantity, Settings};
+use maglev_host_sim::bands::{analyse, Averaging, Level, Motion, Settings};
 
 fn record() -> Vec<f64> {
     // A deterministic broadband signal: a sum of incommensurate sines.
@@ -19,7 +19,7 @@ fn record() -> Vec<f64> {
 fn bands_5000(c: &mut Criterion) {
     let x = record();
     let whole = Settings {
-        input: Quantity::Acceleration,
+        input: Motion::Acceleration,
         level: Level::Acceleration,
         averaging: Averaging::WholeRecord,
     };

@@ -117,36 +117,36 @@ pub enum BandsError {
 /// What a column holds (or what a level is of); the order is the number of time derivatives
 /// of displacement.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Quantity {
+pub enum Motion {
     Displacement,
     Velocity,
     Acceleration,
 }
 
-impl Quantity {
+impl Motion {
     /// Time derivatives of displacement: 0, 1, 2.
     pub fn order(self) -> i32 {
         match self {
-            Quantity::Displacement => 0,
-            Quantity::Velocity => 1,
-            Quantity::Acceleration => 2,
+            Motion::Displacement => 0,
+            Motion::Velocity => 1,
+            Motion::Acceleration => 2,
         }
     }
 
     pub fn name(self) -> &'static str {
         match self {
-            Quantity::Displacement => "displacement",
-            Quantity::Velocity => "velocity",
-            Quantity::Acceleration => "acceleration",
+            Motion::Displacement => "displacement",
+            Motion::Velocity => "velocity",
+            Motion::Acceleration => "acceleration",
         }
     }
 
     /// SI unit.
     pub fn unit(self) -> &'static str {
         match self {
-            Quantity::Displacement => "m",
-            Quantity::Velocity => "m/s",
-            Quantity::Acceleration => "m/s^2",
+            Motion::Displacement => "m",
+            Motion::Velocity => "m/s",
+            Motion::Acceleration => "m/s^2",
         }
     }
 }
@@ -159,10 +159,10 @@ pub enum Level {
 }
 
 impl Level {
-    pub fn quantity(self) -> Quantity {
+    pub fn quantity(self) -> Motion {
         match self {
-            Level::Velocity => Quantity::Velocity,
-            Level::Acceleration => Quantity::Acceleration,
+            Level::Velocity => Motion::Velocity,
+            Level::Acceleration => Motion::Acceleration,
         }
     }
 
@@ -304,7 +304,7 @@ pub struct BandLevel {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
     /// What the samples are.
-    pub input: Quantity,
+    pub input: Motion,
     /// What the level is of.
     pub level: Level,
     pub averaging: Averaging,

@@ -8,13 +8,13 @@ use std::f64::consts::{PI, SQRT_2, TAU};
 mod bands_reference;
 
 use maglev_host_sim::bands::{
-    analyse, band_range, read_history, Averaging, Band, BandLevel, BandsError, Level, Quantity,
+    analyse, band_range, read_history, Averaging, Band, BandLevel, BandsError, Level, Motion,
     Settings, REF_ACCELERATION, REF_VELOCITY,
 };
 
 const WHOLE: Averaging = Averaging::WholeRecord;
 
-fn settings(input: Quantity, level: Level, averaging: Averaging) -> Settings {
+fn settings(input: Motion, level: Level, averaging: Averaging) -> Settings {
     Settings {
         input,
         level,
@@ -23,7 +23,7 @@ fn settings(input: Quantity, level: Level, averaging: Averaging) -> Settings {
 }
 
 fn accel(averaging: Averaging) -> Settings {
-    settings(Quantity::Acceleration, Level::Acceleration, averaging)
+    settings(Motion::Acceleration, Level::Acceleration, averaging)
 }
 
 /// `a·sin(2π·k·j/N + φ)`: `k` whole periods over `n` samples, the phase formed exactly.
@@ -307,17 +307,17 @@ fn quantity_conversions() {
     let mut rng = Normal(0x5EED_00C0);
     let noise: Vec<f64> = (0..n).map(|_| rng.pair().0).collect();
     let cases = [
-        (Quantity::Displacement, Level::Acceleration, 2),
-        (Quantity::Displacement, Level::Velocity, 1),
-        (Quantity::Acceleration, Level::Velocity, -1),
-        (Quantity::Velocity, Level::Acceleration, 1),
-        (Quantity::Velocity, Level::Velocity, 0),
+        (Motion::Displacement, Level::Acceleration, 2),
+        (Motion::Displacement, Level::Velocity, 1),
+        (Motion::Acceleration, Level::Velocity, -1),
+        (Motion::Velocity, Level::Acceleration, 1),
+        (Motion::Velocity, Level::Velocity, 0),
     ];
     for (input, level, p) in cases {
         let s = settings(input, level, WHOLE);
         let worst = check_against_reference(&sine, dt, &s, 0.01)
             .max(check_against_reference(&noise, dt, &s, 0.01));
-        let plain = settings(Quantity::Velocity, Level::Velocity, WHOLE);
+        let plain = settings(Motion::Velocity, Level::Velocity, WHOLE);
         let base = level_at(&analyse(&sine, dt, &plain).unwrap(), index);
         let got = level_at(&analyse(&sine, dt, &s).unwrap(), index)
             + 20.0 * (s.level.reference() / REF_VELOCITY).log10();

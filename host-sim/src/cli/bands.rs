@@ -5,12 +5,12 @@
 use std::io::BufReader;
 use std::path::PathBuf;
 
-use crate::bands::{self, Averaging, Level, Quantity, Settings};
+use crate::bands::{self, Averaging, Level, Motion, Settings};
 use crate::Error;
 
 /// What the input column holds.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum QuantityArg {
+pub enum MotionArg {
     Acceleration,
     Velocity,
     Displacement,
@@ -32,8 +32,8 @@ pub struct Args {
     #[arg(long)]
     pub column: String,
     /// What the column is.
-    #[arg(long, value_enum, default_value_t = QuantityArg::Acceleration)]
-    pub quantity: QuantityArg,
+    #[arg(long, value_enum, default_value_t = MotionArg::Acceleration)]
+    pub quantity: MotionArg,
     /// What the level is of: acceleration (re 1e-6 m/s²) or velocity (re 1e-9 m/s).
     #[arg(long, value_enum, default_value_t = LevelArg::Acceleration)]
     pub output: LevelArg,
@@ -49,9 +49,9 @@ pub struct Args {
 fn settings(a: &Args) -> Settings {
     Settings {
         input: match a.quantity {
-            QuantityArg::Acceleration => Quantity::Acceleration,
-            QuantityArg::Velocity => Quantity::Velocity,
-            QuantityArg::Displacement => Quantity::Displacement,
+            MotionArg::Acceleration => Motion::Acceleration,
+            MotionArg::Velocity => Motion::Velocity,
+            MotionArg::Displacement => Motion::Displacement,
         },
         level: match a.output {
             LevelArg::Acceleration => Level::Acceleration,

@@ -2,12 +2,12 @@
 //! §5 over the viaduct and writes report.md, fig8.svg, bands.csv and each train's histories
 //! (history-maglev.csv, history-wheel-rail.csv), through [`crate::studies::paper5`]; and the ground
 //! section (ground-levels.csv, ground-levels.svg, ground-map-{train}.svg, through
-//! [`crate::studies::paper5_ground`]).
+//! [`crate::studies::paper5::ground`]).
 
 use crate::cli::progress::Progress;
 use crate::output::Staging;
+use crate::studies::paper5::ground;
 use crate::studies::paper5::{self, CARRIAGE, PIER, TRAINS};
-use crate::studies::paper5_ground;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -51,20 +51,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     out.put("fig8.svg", &paper5::figure(&maglev, &wheel_rail)?)?;
     let mut md = paper5::markdown(&runs, &maglev, &wheel_rail, &args.sets);
     let start = std::time::Instant::now();
-    let ground = paper5_ground::analyse(&runs)?;
+    let ground = ground::analyse(&runs)?;
     eprintln!(
         "maglev: report: ground section in {:.1} s wall",
         start.elapsed().as_secs_f64()
     );
-    out.put("ground-levels.csv", &paper5_ground::csv(&ground))?;
-    out.put("ground-levels.svg", &paper5_ground::figure(&ground)?)?;
+    out.put("ground-levels.csv", &ground::csv(&ground))?;
+    out.put("ground-levels.svg", &ground::figure(&ground)?)?;
     for (g, r) in ground.iter().zip(&runs) {
         out.put(
             &format!("ground-map-{}.svg", g.train),
-            &paper5_ground::map_svg(g, r.span)?,
+            &ground::map_svg(g, r.span)?,
         )?;
     }
-    md.push_str(&paper5_ground::markdown(&ground));
+    md.push_str(&ground::markdown(&ground));
     out.put("report.md", &md)?;
     out.finish()?;
     for s in paper5::statements(&maglev, &wheel_rail) {

@@ -16,7 +16,7 @@
 //! - **VdB** = dB re 1e-9 m/s + 20·log10(1e-9/2.54e-8) = dB re 1e-9 m/s − 28.0967 dB.
 //! - **PPV**: max |v| over the record (vertical component only: the model has no other).
 
-use crate::bands::{self, Averaging, Band, BandsError, Level, Quantity, Settings, REF_VELOCITY};
+use crate::bands::{self, Averaging, Band, BandsError, Level, Motion, Settings, REF_VELOCITY};
 
 /// The VdB reference velocity, 1 µin/s in m/s.
 pub const VDB_REFERENCE: f64 = 2.54e-8;
@@ -61,7 +61,7 @@ pub struct ReceiverLevels {
 /// The levels of a velocity record `v` (m/s) sampled at `dt` (s).
 pub fn of_velocity(v: &[f64], dt: f64) -> Result<ReceiverLevels, BandsError> {
     let settings = |averaging| Settings {
-        input: Quantity::Velocity,
+        input: Motion::Velocity,
         level: Level::Velocity,
         averaging,
     };

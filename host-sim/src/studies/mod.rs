@@ -4,7 +4,6 @@
 pub mod control;
 pub mod design;
 pub mod paper5;
-pub mod paper5_ground;
 pub mod stability;
 pub mod sweep;
 pub mod validation;

@@ -4,7 +4,7 @@
 //! history is stored; the reducer reads each committed step through the same probes that
 //! `maglev run` writes to response.csv, so a quantity equals the reduction of that column.
 
-use super::spec::{Quantity, Reduction};
+use super::spec::{ReducedProbe, Reduction};
 use crate::probes::{Probe, Probes, Recorder, StepView};
 use crate::{Error, Result};
 
@@ -50,12 +50,12 @@ pub struct Reducer {
     probes: Vec<Probe>,
     stats: Vec<Stats>,
     /// For each quantity, its reduction and the index of its probe.
-    columns: Vec<(Quantity, usize)>,
+    columns: Vec<(ReducedProbe, usize)>,
 }
 
 impl Reducer {
     /// `probes` must hold (at least) every probe named by `quantities`, by name.
-    pub fn new(quantities: &[Quantity], probes: &Probes) -> Result<Self> {
+    pub fn new(quantities: &[ReducedProbe], probes: &Probes) -> Result<Self> {
         let columns = quantities
             .iter()
             .map(|q| {

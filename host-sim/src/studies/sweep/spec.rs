@@ -101,13 +101,13 @@ pub enum Reduction {
 /// One column of results.csv: `peak|min|max|rms : probe`.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(into = "String", try_from = "String")]
-pub struct Quantity {
+pub struct ReducedProbe {
     pub reduction: Reduction,
     /// A probe name as `[output] probes` takes it (`midspan_z`, `span2.midspan.z`, …).
     pub probe: String,
 }
 
-impl Quantity {
+impl ReducedProbe {
     /// Parses `kind:probe` (the probe is checked against the case later).
     pub fn parse(s: &str) -> Result<Self> {
         let bad = || {
@@ -128,7 +128,7 @@ impl Quantity {
         if probe.is_empty() {
             return Err(bad());
         }
-        Ok(Quantity {
+        Ok(ReducedProbe {
             reduction,
             probe: probe.to_string(),
         })
@@ -146,16 +146,16 @@ impl Quantity {
     }
 }
 
-impl From<Quantity> for String {
-    fn from(q: Quantity) -> String {
+impl From<ReducedProbe> for String {
+    fn from(q: ReducedProbe) -> String {
         q.name()
     }
 }
 
-impl TryFrom<String> for Quantity {
+impl TryFrom<String> for ReducedProbe {
     type Error = Error;
     fn try_from(s: String) -> Result<Self> {
-        Quantity::parse(&s)
+        ReducedProbe::parse(&s)
     }
 }
 
@@ -175,7 +175,7 @@ pub struct Spec {
     /// The fixed overrides as `key=value` strings, in key order.
     pub sets: Vec<String>,
     pub axes: Vec<Axis>,
-    pub quantities: Vec<Quantity>,
+    pub quantities: Vec<ReducedProbe>,
 }
 
 impl Spec {
@@ -279,7 +279,7 @@ impl Spec {
             .reduce
             .quantities
             .iter()
-            .map(|q| Quantity::parse(q))
+            .map(|q| ReducedProbe::parse(q))
             .collect::<Result<Vec<_>>>()?;
         for (i, q) in quantities.iter().enumerate() {
             if quantities[..i].contains(q) {

@@ -8,7 +8,9 @@
 //! Every statement is evaluated from the levels, never written in by hand; where the model
 //! disagrees with the paper the report says so (docs/paper5.md explains the disagreements).
 
-use crate::bands::{self, Averaging, BandLevel, Level, Quantity};
+pub mod ground;
+
+use crate::bands::{self, Averaging, BandLevel, Level, Motion};
 use crate::ground::receivers::BaseForces;
 use crate::physics::fe::soil::Soil;
 use crate::plot::{self, Plot, Series};
@@ -36,7 +38,7 @@ pub struct TrainRun {
     pub contact_loss_steps: usize,
     pub unconverged_steps: usize,
     pub wall: f64,
-    /// Every pier's vertical base force, for the ground section ([`crate::studies::paper5_ground`]).
+    /// Every pier's vertical base force, for the ground section ([`crate::studies::paper5::ground`]).
     pub base: BaseForces,
     /// The soil and the span length of the case (the ground section's half-space and piers).
     pub soil: Soil,
@@ -102,7 +104,7 @@ pub fn run_train(train: &str, sets: &[String], progress: impl FnMut(f64)) -> Res
 /// The whole-record acceleration band levels of a run.
 pub fn levels(run: &TrainRun) -> Result<TrainLevels> {
     let s = bands::Settings {
-        input: Quantity::Acceleration,
+        input: Motion::Acceleration,
         level: Level::Acceleration,
         averaging: Averaging::WholeRecord,
     };
