@@ -98,7 +98,8 @@ impl GroundRecord {
         }
         let dt = t[1] - t[0];
         for (i, &ti) in t.iter().enumerate() {
-            if !((ti - i as f64 * dt).abs() <= 1e-6 * dt) {
+            let off = (ti - i as f64 * dt).abs();
+            if off.is_nan() || off > 1e-6 * dt {
                 return Err(Error::parse(
                     what,
                     format!(
@@ -126,7 +127,7 @@ impl GroundRecord {
     /// sample.
     pub fn acceleration(&self, t: f64) -> [f64; AXES] {
         let s = t / self.dt;
-        if !(s >= 0.0) {
+        if s.is_nan() || s < 0.0 {
             return [0.0; AXES];
         }
         let i = s.floor();
@@ -293,8 +294,8 @@ impl GroundState {
     /// v₁ = v + Δt (a + a₁)/2, d₁ = d + Δt v + Δt² (a + a₁)/4.
     pub fn step(&self, dt: f64, a1: [f64; AXES]) -> Self {
         let mut next = GroundState { a: a1, ..*self };
-        for i in 0..AXES {
-            let sum = self.a[i] + a1[i];
+        for (i, &a1i) in a1.iter().enumerate() {
+            let sum = self.a[i] + a1i;
             next.v[i] = self.v[i] + 0.5 * dt * sum;
             next.d[i] = self.d[i] + dt * self.v[i] + 0.25 * dt * dt * sum;
         }
