@@ -20,6 +20,11 @@
 //! damping. Each Newton–Raphson iteration is one sparse solve; nothing in the time loop
 //! allocates. Wheel loads and motion use Eq. 15, 16 on the girder elements, as in
 //! [`super::FeGuideway`].
+//!
+//! Support motion ([`Viaduct::with_support_motion`], docs/seismic.md "Support motion"): the
+//! footings' ground ends follow a [`SupportMotion`]; the ground enters as the loads
+//! k_f·u_g + c_f'·v_g on the footing DOFs (Eq. S1), so the matrices and the factor are the
+//! same and every displacement is absolute. Without it the viaduct is what it was, bit for bit.
 
 use super::cholesky::SparseCholesky;
 use super::newmark::{Rayleigh, SpanNewmark, State};
