@@ -78,39 +78,61 @@ fn time_loop_does_not_allocate() {
 }
 
 /// The same for the coupled viaduct (host-sim/src/physics/fe/viaduct.rs), including the pier-base
-/// query the `pier{K}.base.*` probes use.
+/// query the `pier{K}.base.*` probes use; and the same viaduct driven by support motion (a
+/// uniform record and a settled pier, docs/seismic.md "Support motion").
 #[test]
 fn viaduct_time_loop_does_not_allocate() {
     use maglev_host_sim::physics::fe::{paper5_viaduct, Viaduct};
+    use maglev_host_sim::physics::seismic::support::{GroundRecord, SupportMotion};
     let mut spec = paper5_viaduct().with_spans(3);
     spec.elements_per_span = 8;
     let dt = 2e-3;
-    let mut v = Viaduct::new(&spec, dt).unwrap();
-    let mut loads = vec![PointLoad::default(); 32];
-    let before = count();
-    let mut sum = 0.0;
-    for n in 1..=600 {
-        let lead = 83.33 * dt * n as f64;
-        for (j, l) in loads.iter_mut().enumerate() {
-            *l = PointLoad {
-                x: lead - 1.5625 * (j / 2) as f64,
-                ey: if j % 2 == 0 { 1.25 } else { 3.25 },
-                ez: 1.0,
-                fy: 1e3,
-                fz: -25e3,
-            };
+    let record = GroundRecord::new(
+        dt,
+        (0..=600)
+            .map(|n| {
+                let t = n as f64 * dt;
+                [0.5 * (9.0 * t).sin(), 0.3 * (13.0 * t).sin(), 0.0]
+            })
+            .collect(),
+    )
+    .unwrap();
+    let driven = SupportMotion::uniform(record, 4)
+        .with_settlement(1, [0.0, 0.0, -0.01])
+        .unwrap();
+    for mut v in [
+        Viaduct::new(&spec, dt).unwrap(),
+        Viaduct::with_support_motion(&spec, dt, driven).unwrap(),
+    ] {
+        let mut loads = vec![PointLoad::default(); 32];
+        let before = count();
+        let mut sum = 0.0;
+        for n in 1..=600 {
+            let lead = 83.33 * dt * n as f64;
+            for (j, l) in loads.iter_mut().enumerate() {
+                *l = PointLoad {
+                    x: lead - 1.5625 * (j / 2) as f64,
+                    ey: if j % 2 == 0 { 1.25 } else { 3.25 },
+                    ez: 1.0,
+                    fy: 1e3,
+                    fz: -25e3,
+                };
+            }
+            for _ in 0..3 {
+                v.solve_step(&loads);
+                sum += loads
+                    .iter()
+                    .map(|l| v.motion_at(l.x, l.ey, l.ez).z)
+                    .sum::<f64>();
+            }
+            v.commit();
+            sum += v.section_at(45.0).z + v.pier_base(2).map_or(0.0, |b| b.az);
         }
-        for _ in 0..3 {
-            v.solve_step(&loads);
-            sum += loads
-                .iter()
-                .map(|l| v.motion_at(l.x, l.ey, l.ez).z)
-                .sum::<f64>();
-        }
-        v.commit();
-        sum += v.section_at(45.0).z + v.pier_base(2).map_or(0.0, |b| b.az);
+        let allocations = count() - before;
+        assert!(
+            sum < 0.0,
+            "the loads (and the settlement) deflect the spans: {sum}"
+        );
+        assert_eq!(allocations, 0, "allocations in the viaduct time loop");
     }
-    let allocations = count() - before;
-    assert!(sum < 0.0, "the loads deflect the spans");
-    assert_eq!(allocations, 0, "allocations in the viaduct time loop");
 }

@@ -8,6 +8,7 @@
 
 pub mod case;
 pub mod scenario;
+pub mod support;
 
 use crate::{Error, Result};
 use std::io::Read;

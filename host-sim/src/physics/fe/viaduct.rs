@@ -20,12 +20,18 @@
 //! damping. Each Newton–Raphson iteration is one sparse solve; nothing in the time loop
 //! allocates. Wheel loads and motion use Eq. 15, 16 on the girder elements, as in
 //! [`super::FeGuideway`].
+//!
+//! Support motion ([`Viaduct::with_support_motion`], docs/seismic.md "Support motion"): the
+//! footings' ground ends follow a [`SupportMotion`]; the ground enters as the loads
+//! k_f·u_g + c_f'·v_g on the footing DOFs (Eq. S1), so the matrices and the factor are the
+//! same and every displacement is absolute. Without it the viaduct is what it was, bit for bit.
 
 use super::cholesky::SparseCholesky;
 use super::newmark::{Rayleigh, SpanNewmark, State};
 use super::soil::{gazetas_rectangle, Soil};
 use super::structure::{Axis, Builder, NodeKind, Structure};
 use crate::physics::guideway::{BeamSection, Guideway, PointLoad, PointMotion, SectionMotion};
+use crate::physics::seismic::support::{add_ground_loads, GroundLink, GroundState, SupportMotion};
 use crate::Error;
 use maglev_core::gap::{dof, locate, ElementVector, WheelShape, DOFS_PER_NODE};
 use nalgebra::DVector;
@@ -335,6 +341,45 @@ pub struct Viaduct {
     committed_at_rest: bool,
     trial_at_rest: bool,
     solved: bool,
+    /// The support motion driving the piers' footings, if any (docs/seismic.md).
+    drive: Option<Drive>,
+}
+
+/// Support motion at the footings: the ground's state at each pier and the loads
+/// `k·u_g + c·v_g` it puts on the footing DOFs (docs/seismic.md Eq. S1).
+///
+/// The clock is the step count: the trial step ends at `(steps + 1)·Δt`, the time loop's
+/// `t = n·Δt` from t = 0 (`simulation/time_loop.rs`), so the [`Guideway`] interface needs
+/// no time argument.
+#[derive(Debug)]
+struct Drive {
+    motion: SupportMotion,
+    links: Vec<GroundLink>,
+    committed: Vec<GroundState>,
+    trial: Vec<GroundState>,
+    steps: u64,
+    /// `trial` holds the ground at the end of the current step.
+    trial_valid: bool,
+}
+
+impl Drive {
+    /// The ground at the end of the current step (computed once per step). No allocation.
+    fn prepare(&mut self, dt: f64) {
+        if self.trial_valid {
+            return;
+        }
+        let t = (self.steps + 1) as f64 * dt;
+        for (k, (g1, g0)) in self.trial.iter_mut().zip(&self.committed).enumerate() {
+            *g1 = g0.step(dt, self.motion.acceleration(k, t));
+        }
+        self.trial_valid = true;
+    }
+
+    fn commit(&mut self) {
+        self.committed.copy_from_slice(&self.trial);
+        self.steps += 1;
+        self.trial_valid = false;
+    }
 }
 
 impl Viaduct {
@@ -372,7 +417,90 @@ impl Viaduct {
             committed_at_rest: true,
             trial_at_rest: true,
             solved: false,
+            drive: None,
         })
+    }
+
+    /// As [`Self::new`], with the piers' footings driven by `motion` (one support per pier,
+    /// pier 1 first; docs/seismic.md "Support motion"). The viaduct starts at rest in its
+    /// static equilibrium over the settled ground (the settlements of `motion`); displacements
+    /// are absolute. Damping may only be stiffness-proportional: mass-proportional damping
+    /// would resist the rigid-body motion the ground imposes.
+    pub fn with_support_motion(
+        spec: &ViaductSpec,
+        dt: f64,
+        motion: SupportMotion,
+    ) -> crate::Result<Self> {
+        let mut v = Self::new(spec, dt)?;
+        let piers = v.pier_count();
+        if motion.supports() != piers {
+            return Err(Error::invalid(
+                "support",
+                format!(
+                    "gives the motion of {} supports, the viaduct has {piers} piers",
+                    motion.supports()
+                ),
+            ));
+        }
+        let beta = match spec.damping {
+            Some(r) if r.alpha != 0.0 => {
+                return Err(Error::invalid(
+                    "bridge.damping",
+                    format!(
+                        "must be stiffness-proportional under support motion (mass-proportional \
+                         damping drags the rigid-body motion), got alpha = {} 1/s",
+                        r.alpha
+                    ),
+                ))
+            }
+            Some(r) => r.beta,
+            None => 0.0,
+        };
+        let f = &spec.foundation;
+        let links: Vec<GroundLink> = v
+            .layout
+            .pier_base
+            .iter()
+            .enumerate()
+            .flat_map(|(support, &base)| {
+                (0..3).map(move |axis| GroundLink {
+                    dof: base * DOFS_PER_NODE + axis,
+                    support,
+                    axis,
+                    k: f.stiffness[axis],
+                    // β K holds β k_f on the footing: its ground end moves too.
+                    c: f.damping[axis] + beta * f.stiffness[axis],
+                })
+            })
+            .collect();
+        let ground: Vec<GroundState> = (0..piers)
+            .map(|k| GroundState::at(motion.settlement(k), motion.acceleration(k, 0.0)))
+            .collect();
+        // The settled shape: K d = K_g u_g (the ground at rest, v_g = 0).
+        let mut d = DVector::zeros(v.structure.dofs());
+        add_ground_loads(&links, &ground, d.as_mut_slice());
+        if d.iter().any(|&x| x != 0.0) {
+            v.static_factor
+                .solve_in_place(d.as_mut_slice(), &mut v.static_factor.scratch());
+            v.committed.d.copy_from(&d);
+            v.trial.d.copy_from(&d);
+            v.committed_at_rest = false;
+            v.trial_at_rest = false;
+        }
+        v.drive = Some(Drive {
+            motion,
+            links,
+            trial: ground.clone(),
+            committed: ground,
+            steps: 0,
+            trial_valid: false,
+        });
+        Ok(v)
+    }
+
+    /// The ground at each pier on the committed state (`None` without support motion).
+    pub fn ground(&self) -> Option<&[GroundState]> {
+        self.drive.as_ref().map(|d| d.committed.as_slice())
     }
 
     /// The description it was built from.
@@ -459,7 +587,11 @@ impl Guideway for Viaduct {
         self.load.fill(0.0);
         let loaded = distribute(&self.spec, &self.layout, loads, &mut self.load);
         self.solved = true;
-        if self.committed_at_rest && !loaded {
+        if let Some(d) = &mut self.drive {
+            d.prepare(self.dt);
+            add_ground_loads(&d.links, &d.trial, self.load.as_mut_slice());
+        }
+        if self.committed_at_rest && !loaded && self.drive.is_none() {
             if !self.trial_at_rest {
                 self.trial.d.fill(0.0);
                 self.trial_at_rest = true;
@@ -510,6 +642,9 @@ impl Guideway for Viaduct {
         self.committed_at_rest = self.trial_at_rest;
         self.free_valid = false;
         self.solved = false;
+        if let Some(d) = &mut self.drive {
+            d.commit();
+        }
     }
 }
 

@@ -1,0 +1,211 @@
+//! `[support]`: the ground motion at the viaduct's piers as a scenario gives it, and its
+//! conversion into the [`SupportMotion`] the viaduct takes (docs/seismic.md "Support motion").
+//!
+//! Why a file of its own: the section is data for one model (the viaduct on its footings);
+//! keeping its keys, limits and conversion together leaves `scenario.rs` and `case.rs` one
+//! field each to add (not wired yet: nothing reads `[support]` from a scenario file so far).
+
+use crate::physics::seismic::support::{GroundRecord, SupportMotion};
+use crate::Error;
+use crate::Result;
+use serde::{Deserialize, Serialize};
+
+/// The largest settlement a pier may be given (m): a metre is far beyond any pier that still
+/// carries a guideway; a larger value is a slip of the unit.
+pub const MAX_SETTLEMENT_M: f64 = 1.0;
+
+/// The slowest and fastest apparent wave speed along the line (m/s): below the slowest soft
+/// soil's shear waves (~50 m/s), above which the delay over a 30 m span is below a
+/// microsecond.
+pub const APPARENT_SPEED_M_PER_S: (f64, f64) = (10.0, 1e8);
+
+/// `support.spatial`: how the piers share the record.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum Spatial {
+    /// Every pier at once.
+    #[default]
+    Uniform,
+    /// Pier k delayed by its distance from pier 1 over `apparent_speed_m_per_s`.
+    WavePassage,
+}
+
+/// `[[support.settlement]]`: pier `pier` (1-based, pier 1 at x = 0) displaced statically.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct SettlementSection {
+    pub pier: usize,
+    #[serde(default)]
+    pub dx_m: f64,
+    #[serde(default)]
+    pub dy_m: f64,
+    #[serde(default)]
+    pub dz_m: f64,
+}
+
+/// `[support]` (module docs).
+#[derive(Deserialize, Serialize, Debug, Clone, Default)]
+#[serde(deny_unknown_fields)]
+pub struct SupportSection {
+    /// A ground-acceleration CSV (`maglev accelerogram`'s shape) every pier follows.
+    pub record: Option<String>,
+    /// One such CSV per pier, pier 1 first (instead of `record`).
+    pub records: Option<Vec<String>>,
+    #[serde(default)]
+    pub spatial: Spatial,
+    /// Apparent speed of the ground wave along the line, for `spatial = "wave-passage"`.
+    pub apparent_speed_m_per_s: Option<f64>,
+    #[serde(default)]
+    pub settlement: Vec<SettlementSection>,
+}
+
+impl SupportSection {
+    /// The motion of the `piers` piers, `span_length` apart; `read` returns a record file's
+    /// text (the caller resolves the path against the scenario's folder).
+    pub fn to_motion(
+        &self,
+        piers: usize,
+        span_length: f64,
+        read: impl Fn(&str) -> Result<String>,
+    ) -> Result<SupportMotion> {
+        let load = |path: &str| GroundRecord::from_csv(path, &read(path)?);
+        let mut motion = match (&self.record, &self.records) {
+            (Some(_), Some(_)) => {
+                return Err(Error::invalid(
+                    "support.records",
+                    "give either support.record or support.records, not both",
+                ))
+            }
+            (None, Some(list)) => {
+                if list.len() != piers {
+                    return Err(Error::invalid(
+                        "support.records",
+                        format!(
+                            "must list one record per pier ({piers}), got {}",
+                            list.len()
+                        ),
+                    ));
+                }
+                if self.spatial != Spatial::Uniform {
+                    return Err(Error::invalid(
+                        "support.spatial",
+                        "must be \"uniform\" with one record per pier",
+                    ));
+                }
+                SupportMotion::per_support(list.iter().map(|p| load(p)).collect::<Result<_>>()?)
+            }
+            (Some(path), None) => self.shared(load(path)?, piers, span_length)?,
+            (None, None) => SupportMotion::at_rest(piers),
+        };
+        for s in &self.settlement {
+            if s.pier == 0 || s.pier > piers {
+                return Err(Error::invalid(
+                    "support.settlement.pier",
+                    format!("must be a pier from 1 to {piers}, got {}", s.pier),
+                ));
+            }
+            for (key, v) in [("dx_m", s.dx_m), ("dy_m", s.dy_m), ("dz_m", s.dz_m)] {
+                if !(v.is_finite() && v.abs() <= MAX_SETTLEMENT_M) {
+                    return Err(Error::invalid(
+                        format!("support.settlement.{key}"),
+                        format!("must be at most {MAX_SETTLEMENT_M} m in magnitude, got {v}"),
+                    ));
+                }
+            }
+            motion = motion.with_settlement(s.pier - 1, [s.dx_m, s.dy_m, s.dz_m])?;
+        }
+        Ok(motion)
+    }
+
+    /// One record for every pier, uniform or with wave passage.
+    fn shared(
+        &self,
+        record: GroundRecord,
+        piers: usize,
+        span_length: f64,
+    ) -> Result<SupportMotion> {
+        match (self.spatial, self.apparent_speed_m_per_s) {
+            (Spatial::Uniform, None) => Ok(SupportMotion::uniform(record, piers)),
+            (Spatial::Uniform, Some(_)) => Err(Error::invalid(
+                "support.apparent_speed_m_per_s",
+                "is for spatial = \"wave-passage\" only",
+            )),
+            (Spatial::WavePassage, None) => Err(Error::invalid(
+                "support.apparent_speed_m_per_s",
+                "is required with spatial = \"wave-passage\"",
+            )),
+            (Spatial::WavePassage, Some(c)) => {
+                let (lo, hi) = APPARENT_SPEED_M_PER_S;
+                if !(c.is_finite() && (lo..=hi).contains(&c)) {
+                    return Err(Error::invalid(
+                        "support.apparent_speed_m_per_s",
+                        format!("must be within [{lo}, {hi:e}] m/s, got {c}"),
+                    ));
+                }
+                let x: Vec<f64> = (0..piers).map(|k| k as f64 * span_length).collect();
+                SupportMotion::wave_passage(record, &x, c)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::seismic::support::HEADER;
+
+    fn section(text: &str) -> SupportSection {
+        toml::from_str(text).unwrap()
+    }
+
+    fn read(_: &str) -> Result<String> {
+        Ok(format!("{HEADER}\n0.0,0,0,1\n0.5,0,0,3\n1.0,0,0,0\n"))
+    }
+
+    /// Wave passage over 30 m spans at 300 m/s: pier 3 is 0.2 s behind pier 1; a settlement
+    /// lands on its pier (1-based).
+    #[test]
+    fn wave_passage_and_settlement_from_keys() {
+        let s = section(
+            "record = \"q.csv\"\nspatial = \"wave-passage\"\napparent_speed_m_per_s = 300.0\n\
+             [[settlement]]\npier = 2\ndz_m = -0.01\n",
+        );
+        let m = s.to_motion(3, 30.0, read).unwrap();
+        assert_eq!(m.supports(), 3);
+        assert_eq!(m.acceleration(2, 0.45), m.acceleration(0, 0.25));
+        assert_eq!(m.acceleration(0, 0.25)[2], 2.0);
+        assert_eq!(m.settlement(1), [0.0, 0.0, -0.01]);
+        assert_eq!(m.settlement(0), [0.0; 3]);
+    }
+
+    /// Bad values are refused naming the key.
+    #[test]
+    fn bad_keys_are_refused_naming_them() {
+        for (text, key) in [
+            (
+                "record = \"q.csv\"\nspatial = \"wave-passage\"\n",
+                "support.apparent_speed_m_per_s",
+            ),
+            (
+                "record = \"q.csv\"\nspatial = \"wave-passage\"\napparent_speed_m_per_s = 1.0\n",
+                "support.apparent_speed_m_per_s",
+            ),
+            ("records = [\"a\", \"b\"]\n", "support.records"),
+            (
+                "[[settlement]]\npier = 4\ndz_m = -0.01\n",
+                "support.settlement.pier",
+            ),
+            (
+                "[[settlement]]\npier = 1\ndz_m = -2.0\n",
+                "support.settlement.dz_m",
+            ),
+        ] {
+            let e = section(text)
+                .to_motion(3, 30.0, read)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(key), "{text}: {e}");
+        }
+        assert!(toml::from_str::<SupportSection>("recrd = \"q.csv\"\n").is_err());
+    }
+}
