@@ -173,7 +173,7 @@ impl Synthesis {
         let mut scratch = vec![Complex64::default(); fft.get_immutable_scratch_len()];
         fft.process_immutable_with_scratch(&spectrum, &mut kernel, &mut scratch);
         // The output chirp, in place of the kernel's chirps.
-        for_linear_phasors(f0, dx, &mut chirps, |c, shift| *c = shift * *c);
+        times_linear_phasors(f0, dx, &mut chirps);
         Synthesis {
             freqs: terms.iter().map(|t| t.freq).collect(),
             in_chirp: (0..terms.len()).map(chirp).collect(),
@@ -242,16 +242,16 @@ impl Synthesis {
     }
 }
 
-/// Calls `apply(&mut xs[m], e^{2πi f m dx})` for every m, the phasor formed as the product
-/// of two exact phasors (m = 64a + b: one for f·64a·dx, one for f·b·dx; [`grid_turn`]
+/// Multiplies `xs[m]` by e^{2πi f m dx} (as `e · xs[m]`) for every m, the phasor formed as the
+/// product of two exact phasors (m = 64a + b: one for f·64a·dx, one for f·b·dx; [`grid_turn`]
 /// each): 1 ulp more than one phasor per m, for len/64 + 64 sines and cosines instead of len.
-fn for_linear_phasors<T>(f: f64, dx: f64, xs: &mut [T], mut apply: impl FnMut(&mut T, Complex64)) {
+fn times_linear_phasors(f: f64, dx: f64, xs: &mut [Complex64]) {
     const SPLIT: usize = 64;
     let fine: Vec<Complex64> = (0..SPLIT).map(|b| phasor(grid_turn(f, dx, b))).collect();
     for (a, chunk) in xs.chunks_mut(SPLIT).enumerate() {
         let coarse = phasor(grid_turn(f, dx, a * SPLIT));
         for (x, fine) in chunk.iter_mut().zip(&fine) {
-            apply(x, coarse * fine);
+            *x = coarse * fine * *x;
         }
     }
 }
