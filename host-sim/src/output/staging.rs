@@ -249,16 +249,21 @@ fn clean_stale(parent: &Path, name: &str, target: &Path, kind: Kind) {
     };
     let (partial, old) = (format!(".{name}.partial-"), format!(".{name}.old-"));
     for entry in entries.flatten() {
-        let file = entry.file_name().to_string_lossy().into_owned();
+        // Most entries of a parent such as /tmp are not ours: only their name is read.
+        let file = entry.file_name();
+        let file = file.to_string_lossy();
         let pid = |prefix: &str| {
             file.strip_prefix(prefix)
                 .and_then(|pid| pid.parse::<u32>().ok())
         };
-        let dead = |prefix: &str| pid(prefix).is_some_and(|pid| !is_alive(pid));
+        let (staged, aside) = (pid(&partial), pid(&old));
+        if staged.is_none() && aside.is_none() {
+            continue;
+        }
         let path = entry.path();
-        if pid(&partial).is_some_and(|pid| abandoned(&path, pid)) {
+        if staged.is_some_and(|pid| abandoned(&path, pid)) {
             let _ = std::fs::remove_dir_all(&path);
-        } else if dead(&old) {
+        } else if aside.is_some_and(|pid| !is_alive(pid)) {
             if !target.exists() {
                 let _ = std::fs::rename(&path, target);
             } else if kind.may_replace(&path, target).is_ok() {

@@ -136,10 +136,12 @@ pub struct Synthesis {
     /// e^{2πi(F m h + β m²/2)}, m < L.
     out_chirp: Vec<Complex64>,
     dx: f64,
-    /// u_k for k < N, then zeros (never written: the FFTs read it immutably).
+    /// u_k for k < N, then zeros; the inverse transform's output overwrites it, so a block
+    /// zeroes the tail again. Two working buffers of P, not three, and no temporary ones: the
+    /// first touch of fresh memory (a page fault a 4 KiB page) costs the process more than
+    /// zeroing the tail (docs/performance.md, start-up).
     input: Vec<Complex64>,
     spectrum: Vec<Complex64>,
-    output: Vec<Complex64>,
     scratch: Vec<Complex64>,
     samples: Vec<f64>,
 }
@@ -160,23 +162,24 @@ impl Synthesis {
         let half = 0.5 * step;
         let chirp = |k: usize| grid_turn(half, dx, k * k);
         // e^{πiβd²} for 0 ≤ d < L; N − 1 < L, so it covers the kernel's negative d too.
-        let chirps: Vec<Complex64> = (0..l).map(|d| phasor(chirp(d))).collect();
+        let mut chirps: Vec<Complex64> = (0..l).map(|d| phasor(chirp(d))).collect();
         let fft = plan(p);
         let scale = 1.0 / p as f64;
-        let v: Vec<Complex64> = (0..p)
+        // The kernel v, laid out in the spectrum buffer (every block overwrites it).
+        let spectrum: Vec<Complex64> = (0..p)
             .map(|i| chirps[if i < l { i } else { p - i }].conj() * scale)
             .collect();
         let mut kernel = vec![Complex64::default(); p];
         let mut scratch = vec![Complex64::default(); fft.get_immutable_scratch_len()];
-        fft.process_immutable_with_scratch(&v, &mut kernel, &mut scratch);
-        let shift = linear_phasors(f0, dx, l);
+        fft.process_immutable_with_scratch(&spectrum, &mut kernel, &mut scratch);
+        // The output chirp, in place of the kernel's chirps.
+        times_linear_phasors(f0, dx, &mut chirps);
         Synthesis {
             freqs: terms.iter().map(|t| t.freq).collect(),
             in_chirp: (0..terms.len()).map(chirp).collect(),
-            out_chirp: shift.iter().zip(&chirps).map(|(a, c)| a * c).collect(),
+            out_chirp: chirps,
             input: vec![Complex64::default(); p],
-            spectrum: vec![Complex64::default(); p],
-            output: vec![Complex64::default(); p],
+            spectrum,
             samples: vec![0.0; l],
             scratch,
             fft,
@@ -213,21 +216,24 @@ impl Synthesis {
     /// r(x_j) for j = j0 .. j0 + L (L = this transform's block length) of the profile with
     /// `terms` (which this transform [`Synthesis::serves`]).
     pub fn block(&mut self, terms: &[Term<f64>], j0: usize) -> &[f64] {
-        for ((u, t), c) in self.input.iter_mut().zip(terms).zip(&self.in_chirp) {
+        let (head, tail) = self.input.split_at_mut(terms.len());
+        for ((u, t), c) in head.iter_mut().zip(terms).zip(&self.in_chirp) {
             *u = phasor(grid_turn(t.freq, self.dx, j0) + t.phase + c) * t.amp;
         }
+        tail.fill(Complex64::default());
         let (fft, scratch) = (&self.fft, &mut self.scratch);
         fft.process_immutable_with_scratch(&self.input, &mut self.spectrum, scratch);
         // The inverse transform as conj ∘ forward ∘ conj (one plan, the same round-off).
         for (b, v) in self.spectrum.iter_mut().zip(&self.kernel) {
             *b = (*b * v).conj();
         }
-        fft.process_immutable_with_scratch(&self.spectrum, &mut self.output, scratch);
+        let output = &mut self.input;
+        fft.process_immutable_with_scratch(&self.spectrum, output, scratch);
         // r = Re(w · conj(q)) for the forward transform q of the conjugated product.
         for ((s, q), w) in self
             .samples
             .iter_mut()
-            .zip(&self.output)
+            .zip(output.iter())
             .zip(&self.out_chirp)
         {
             *s = w.re * q.re + w.im * q.im;
@@ -236,18 +242,18 @@ impl Synthesis {
     }
 }
 
-/// e^{2πi f m dx} for m < count, as the product of two exact phasors (m = 64a + b: one for
-/// f·64a·dx, one for f·b·dx; [`grid_turn`] each): 1 ulp more than one phasor per m, for
-/// count/64 + 64 sines and cosines instead of count.
-fn linear_phasors(f: f64, dx: f64, count: usize) -> Vec<Complex64> {
+/// Multiplies `xs[m]` by e^{2πi f m dx} (as `e · xs[m]`) for every m, the phasor formed as the
+/// product of two exact phasors (m = 64a + b: one for f·64a·dx, one for f·b·dx; [`grid_turn`]
+/// each): 1 ulp more than one phasor per m, for len/64 + 64 sines and cosines instead of len.
+fn times_linear_phasors(f: f64, dx: f64, xs: &mut [Complex64]) {
     const SPLIT: usize = 64;
     let fine: Vec<Complex64> = (0..SPLIT).map(|b| phasor(grid_turn(f, dx, b))).collect();
-    let coarse: Vec<Complex64> = (0..count.div_ceil(SPLIT))
-        .map(|a| phasor(grid_turn(f, dx, a * SPLIT)))
-        .collect();
-    (0..count)
-        .map(|m| coarse[m / SPLIT] * fine[m % SPLIT])
-        .collect()
+    for (a, chunk) in xs.chunks_mut(SPLIT).enumerate() {
+        let coarse = phasor(grid_turn(f, dx, a * SPLIT));
+        for (x, fine) in chunk.iter_mut().zip(&fine) {
+            *x = coarse * fine * *x;
+        }
+    }
 }
 
 /// A forward FFT of length `p`: rustfft's SSE4.1 code on x86-64 machines that have it, its
@@ -421,6 +427,26 @@ mod tests {
                 assert!(rms <= sigma && worst <= 5.0 * sigma, "dx = {dx}, j0 = {j0}");
             }
         }
+    }
+
+    /// A block does not depend on the blocks computed before it with the same transform (the
+    /// inverse FFT's output overwrites the input buffer, whose tail must be zeros again): the
+    /// third block after the first two, bit for bit, equals it from a fresh transform.
+    #[test]
+    fn a_block_does_not_depend_on_the_blocks_before_it() {
+        let g = Irregularity::<f64>::new(&PsdParams::TABLE1_Y, Direction::Y, 3).unwrap();
+        let mut used = Synthesis::new(g.terms(), GRID);
+        let l = used.samples.len();
+        used.block(g.terms(), 0);
+        used.block(g.terms(), l);
+        let after = used.block(g.terms(), 2 * l).to_vec();
+        let fresh = Synthesis::new(g.terms(), GRID)
+            .block(g.terms(), 2 * l)
+            .to_vec();
+        assert!(after
+            .iter()
+            .zip(&fresh)
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
     }
 
     #[test]
