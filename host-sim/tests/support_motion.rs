@@ -10,10 +10,12 @@
 //!   kinematics in closed form;
 //! - a settled pier: the girders over it take their rigid-body tilt.
 
+use maglev_host_sim::input::support::SupportSection;
 use maglev_host_sim::physics::fe::newmark::{Rayleigh, SpanNewmark, State};
 use maglev_host_sim::physics::fe::structure::{Builder, NodeKind};
 use maglev_host_sim::physics::fe::{paper5_viaduct, Viaduct, ViaductSpec};
 use maglev_host_sim::physics::guideway::Guideway;
+use maglev_host_sim::physics::seismic::accelerogram::G;
 use maglev_host_sim::physics::seismic::support::{
     add_ground_loads, GroundLink, GroundRecord, GroundState, SupportMotion,
 };
@@ -435,4 +437,32 @@ fn simply_supported_spans_over_a_settled_pier_take_their_rigid_body_tilt() {
         v.commit();
     }
     check(&v, "after 200 steps");
+}
+
+/// `[support.synthetic]` is `maglev accelerogram` with the same values: its defaults are
+/// the command's, so a section giving only `pga_g` and `seed` reproduces the command's CSV
+/// (printed with `{:e}`, which reads back to the same f64) sample for sample.
+#[test]
+fn a_synthetic_record_is_the_accelerogram_commands_record() {
+    let exe = env!("CARGO_BIN_EXE_maglev");
+    let out = std::process::Command::new(exe)
+        .args(["accelerogram", "--pga-g", "0.15", "--seed", "7"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let csv = String::from_utf8(out.stdout).unwrap();
+    let command = GroundRecord::from_csv("cli", &csv).unwrap();
+    let s: SupportSection = toml::from_str("[synthetic]\npga_g = 0.15\nseed = 7\n").unwrap();
+    let ours = s.synthetic.as_ref().unwrap().record().unwrap();
+    assert_eq!(ours.time_step(), 0.005);
+    assert_eq!(ours.samples().len(), 4001);
+    assert_eq!(ours.samples(), command.samples());
+    let peak = ours
+        .samples()
+        .iter()
+        .map(|a| a[0].abs())
+        .fold(0.0, f64::max);
+    assert!((peak - 0.15 * G).abs() < 1e-12 * G, "x peak {peak}");
+    let m = s.to_motion(2, 30.0, |_| unreachable!()).unwrap();
+    assert_eq!(m.acceleration(1, 1.0), m.acceleration(0, 1.0));
 }

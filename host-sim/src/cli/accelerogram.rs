@@ -5,7 +5,7 @@
 
 use std::io::Write;
 
-use crate::physics::seismic::accelerogram::{synthesize, Envelope, GroundFilter, Spec, G};
+use crate::physics::seismic::accelerogram::{flag, synthesize, Envelope, GroundFilter, Spec, G};
 use crate::{Error, Result};
 
 #[derive(clap::Args, Debug)]
@@ -65,15 +65,12 @@ pub struct Args {
 
 /// The ground class by name (any case).
 fn ground(name: &str) -> Result<GroundFilter> {
-    match name.trim().to_ascii_lowercase().as_str() {
-        "firm" => Ok(GroundFilter::FIRM),
-        "medium" => Ok(GroundFilter::MEDIUM),
-        "soft" => Ok(GroundFilter::SOFT),
-        _ => Err(Error::invalid(
+    GroundFilter::class(name).ok_or_else(|| {
+        Error::invalid(
             "--ground",
             format!("unknown ground class {name:?}: expected firm, medium or soft"),
-        )),
-    }
+        )
+    })
 }
 
 /// The arguments as the model's SI spec (g → m/s² here, at the edge).
@@ -101,7 +98,7 @@ fn spec(a: &Args) -> Result<Spec> {
 
 /// Run the subcommand: the CSV to stdout.
 pub fn run(a: Args) -> Result<()> {
-    let r = synthesize(&spec(&a)?)?;
+    let r = synthesize(&spec(&a)?, &flag)?;
     // t printed with Δt's decimals, as `irregularity` prints x.
     let prec = crate::cli::irregularity::decimals(a.dt_s);
     let mut w = crate::cli::stdout::writer();

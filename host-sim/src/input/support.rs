@@ -5,6 +5,7 @@
 //! keeping its keys, limits and conversion together leaves `scenario.rs` and `case.rs` one
 //! field each to add (not wired yet: nothing reads `[support]` from a scenario file so far).
 
+use crate::physics::seismic::accelerogram::{synthesize, Envelope, GroundFilter, Spec, G};
 use crate::physics::seismic::support::{GroundRecord, SupportMotion};
 use crate::Error;
 use crate::Result;
@@ -55,8 +56,90 @@ pub struct SupportSection {
     pub spatial: Spatial,
     /// Apparent speed of the ground wave along the line, for `spatial = "wave-passage"`.
     pub apparent_speed_m_per_s: Option<f64>,
+    /// A synthetic record every pier follows (instead of `record`; `maglev accelerogram`'s
+    /// model, docs/seismic.md).
+    pub synthetic: Option<SyntheticSection>,
     #[serde(default)]
     pub settlement: Vec<SettlementSection>,
+}
+
+/// `[support.synthetic]`: the seeded accelerogram of `maglev accelerogram`, made at load time
+/// (the same keys as its flags, the same defaults, the same bits).
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct SyntheticSection {
+    /// Peak ground acceleration of each horizontal component, in g.
+    pub pga_g: f64,
+    /// `firm`, `medium` or `soft`.
+    #[serde(default = "default_ground")]
+    pub ground: String,
+    #[serde(default = "default_vertical_ratio")]
+    pub vertical_ratio: f64,
+    #[serde(default = "default_duration")]
+    pub duration_s: f64,
+    #[serde(default = "default_dt")]
+    pub dt_s: f64,
+    #[serde(default)]
+    pub seed: u64,
+    #[serde(default = "default_rise")]
+    pub rise_s: f64,
+    #[serde(default = "default_strong_end")]
+    pub strong_end_s: f64,
+    #[serde(default = "default_decay")]
+    pub decay_per_s: f64,
+}
+fn default_ground() -> String {
+    "medium".into()
+}
+fn default_vertical_ratio() -> f64 {
+    2.0 / 3.0
+}
+fn default_duration() -> f64 {
+    20.0
+}
+fn default_dt() -> f64 {
+    0.005
+}
+fn default_rise() -> f64 {
+    2.0
+}
+fn default_strong_end() -> f64 {
+    10.0
+}
+fn default_decay() -> f64 {
+    0.4
+}
+
+impl SyntheticSection {
+    /// The record, its values checked with their `support.synthetic.*` keys.
+    pub fn record(&self) -> Result<GroundRecord> {
+        let key = |k: &str| format!("support.synthetic.{k}");
+        let filter = GroundFilter::class(&self.ground).ok_or_else(|| {
+            Error::invalid(
+                key("ground"),
+                format!(
+                    "unknown ground class {:?}: expected firm, medium or soft",
+                    self.ground
+                ),
+            )
+        })?;
+        let spec = Spec {
+            filter,
+            envelope: Envelope {
+                rise_s: self.rise_s,
+                strong_end_s: self.strong_end_s,
+                decay_per_s: self.decay_per_s,
+            },
+            duration_s: self.duration_s,
+            dt_s: self.dt_s,
+            pga: self.pga_g * G,
+            vertical_ratio: self.vertical_ratio,
+            seed: self.seed,
+        };
+        let a = synthesize(&spec, &key)?;
+        let samples = (0..a.x.len()).map(|j| [a.x[j], a.y[j], a.z[j]]).collect();
+        GroundRecord::new(a.dt_s, samples)
+    }
 }
 
 impl SupportSection {
@@ -69,13 +152,18 @@ impl SupportSection {
         read: impl Fn(&str) -> Result<String>,
     ) -> Result<SupportMotion> {
         let load = |path: &str| GroundRecord::from_csv(path, &read(path)?);
+        let given = [
+            self.record.is_some(),
+            self.records.is_some(),
+            self.synthetic.is_some(),
+        ];
+        if given.iter().filter(|g| **g).count() > 1 {
+            return Err(Error::invalid(
+                "support.records",
+                "give one of support.record, support.records and [support.synthetic]",
+            ));
+        }
         let mut motion = match (&self.record, &self.records) {
-            (Some(_), Some(_)) => {
-                return Err(Error::invalid(
-                    "support.records",
-                    "give either support.record or support.records, not both",
-                ))
-            }
             (None, Some(list)) => {
                 if list.len() != piers {
                     return Err(Error::invalid(
@@ -95,7 +183,11 @@ impl SupportSection {
                 SupportMotion::per_support(list.iter().map(|p| load(p)).collect::<Result<_>>()?)
             }
             (Some(path), None) => self.shared(load(path)?, piers, span_length)?,
-            (None, None) => SupportMotion::at_rest(piers),
+            (None, None) => match &self.synthetic {
+                Some(syn) => self.shared(syn.record()?, piers, span_length)?,
+                None => SupportMotion::at_rest(piers),
+            },
+            (Some(_), Some(_)) => unreachable!("refused above"),
         };
         for s in &self.settlement {
             if s.pier == 0 || s.pier > piers {
@@ -176,6 +268,21 @@ mod tests {
         assert_eq!(m.acceleration(0, 0.25)[2], 2.0);
         assert_eq!(m.settlement(1), [0.0, 0.0, -0.01]);
         assert_eq!(m.settlement(0), [0.0; 3]);
+    }
+
+    /// A synthetic value out of its limits names its scenario key.
+    #[test]
+    fn synthetic_values_name_their_scenario_key() {
+        let bad = |text: &str| {
+            section(text)
+                .to_motion(2, 30.0, read)
+                .unwrap_err()
+                .to_string()
+        };
+        assert!(bad("[synthetic]\npga_g = 3.0\n").contains("support.synthetic.pga_g"));
+        assert!(bad("[synthetic]\npga_g = 0.1\nground = \"clay\"\n")
+            .contains("support.synthetic.ground"));
+        assert!(bad("record = \"q.csv\"\n[synthetic]\npga_g = 0.1\n").contains("one of"));
     }
 
     /// Bad values are refused naming the key.

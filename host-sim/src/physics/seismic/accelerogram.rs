@@ -70,6 +70,16 @@ impl GroundFilter {
     /// Soft ground (same source).
     pub const SOFT: Self = Self::new(5.0, 0.2, 0.5, 0.6);
 
+    /// The ground classes by name (`firm`, `medium`, `soft`; any case).
+    pub fn class(name: &str) -> Option<Self> {
+        match name.trim().to_ascii_lowercase().as_str() {
+            "firm" => Some(Self::FIRM),
+            "medium" => Some(Self::MEDIUM),
+            "soft" => Some(Self::SOFT),
+            _ => None,
+        }
+    }
+
     pub const fn new(omega_g: f64, zeta_g: f64, omega_f: f64, zeta_f: f64) -> Self {
         Self {
             omega_g,
@@ -139,66 +149,90 @@ pub struct Accelerogram {
     pub z: Vec<f64>,
 }
 
-/// `Err` naming the command-line key when `v` is outside `[lo, hi]` (or not finite).
-fn check(key: &str, v: f64, lo: f64, hi: f64, why: &str) -> Result<()> {
+/// How the caller's edge spells a key: `pga_g` is `--pga-g` on the command line
+/// ([`flag`]) and `support.synthetic.pga_g` in a scenario.
+pub type KeyName<'a> = &'a dyn Fn(&str) -> String;
+
+/// The command line's spelling of a key (`pga_g` → `--pga-g`).
+pub fn flag(key: &str) -> String {
+    format!("--{}", key.replace('_', "-"))
+}
+
+/// `Err` naming the caller's key when `v` is outside `[lo, hi]` (or not finite).
+fn check(name: KeyName, key: &str, v: f64, lo: f64, hi: f64, why: &str) -> Result<()> {
     if v.is_finite() && (lo..=hi).contains(&v) {
         return Ok(());
     }
     Err(Error::invalid(
-        key,
+        name(key),
         format!("must be within [{lo}, {hi}] ({why}), got {v}"),
     ))
 }
 
 impl Spec {
-    /// The number of samples, after checking every value against its limit.
-    pub fn samples(&self) -> Result<usize> {
+    /// The number of samples, after checking every value against its limit (an error names
+    /// the key as `name` spells it).
+    pub fn samples(&self, name: KeyName) -> Result<usize> {
         let f = &self.filter;
         check(
-            "--pga-g",
+            name,
+            "pga_g",
             self.pga / G,
             1e-6,
             2.0,
             "in g; 2 g is above any recorded PGA",
         )?;
         check(
-            "--vertical-ratio",
+            name,
+            "vertical_ratio",
             self.vertical_ratio,
             0.0,
             2.0,
             "vertical over horizontal peak",
         )?;
         check(
-            "--duration-s",
+            name,
+            "duration_s",
             self.duration_s,
             0.1,
             600.0,
             "strong motion lasts seconds to minutes",
         )?;
         check(
-            "--dt-s",
+            name,
+            "dt_s",
             self.dt_s,
             1e-4,
             0.1,
             "Nyquist above 5 Hz, at most 10 kHz",
         )?;
         check(
-            "--omega-g",
+            name,
+            "omega_g",
             f.omega_g,
             0.1,
             1000.0,
             "rad/s, the soil's predominant frequency",
         )?;
-        check("--zeta-g", f.zeta_g, 0.01, 5.0, "the soil's damping ratio")?;
         check(
-            "--omega-f",
+            name,
+            "zeta_g",
+            f.zeta_g,
+            0.01,
+            5.0,
+            "the soil's damping ratio",
+        )?;
+        check(
+            name,
+            "omega_f",
             f.omega_f,
             0.01,
             1000.0,
             "rad/s, the high-pass corner",
         )?;
         check(
-            "--zeta-f",
+            name,
+            "zeta_f",
             f.zeta_f,
             0.01,
             5.0,
@@ -206,25 +240,27 @@ impl Spec {
         )?;
         let e = &self.envelope;
         check(
-            "--rise-s",
+            name,
+            "rise_s",
             e.rise_s,
             0.0,
             self.duration_s,
             "within the record",
         )?;
         check(
-            "--strong-end-s",
+            name,
+            "strong_end_s",
             e.strong_end_s,
             e.rise_s,
             self.duration_s,
-            "between --rise-s and --duration-s",
+            "between the rise and the record's end",
         )?;
-        check("--decay-per-s", e.decay_per_s, 0.0, 100.0, "1/s")?;
+        check(name, "decay_per_s", e.decay_per_s, 0.0, 100.0, "1/s")?;
         // At most 600 s / 0.1 ms + 1 = 6·10⁶ + 1 samples by the bounds above.
         let n = (self.duration_s / self.dt_s + 1e-9).floor() as usize + 1;
         if n < MIN_SAMPLES {
             return Err(Error::invalid(
-                "--duration-s/--dt-s",
+                format!("{}/{}", name("duration_s"), name("dt_s")),
                 format!("give {n} samples, fewer than {MIN_SAMPLES}"),
             ));
         }
@@ -232,9 +268,10 @@ impl Spec {
     }
 }
 
-/// Synthesises the record of `spec` (module docs, steps 1–4).
-pub fn synthesize(spec: &Spec) -> Result<Accelerogram> {
-    let n = spec.samples()?;
+/// Synthesises the record of `spec` (module docs, steps 1–4); a value out of its limits is
+/// refused naming its key as `name` spells it.
+pub fn synthesize(spec: &Spec, name: KeyName) -> Result<Accelerogram> {
+    let n = spec.samples(name)?;
     let dt = spec.dt_s;
     let envelope: Vec<f64> = (0..n).map(|j| spec.envelope.at(j as f64 * dt)).collect();
     let component = |c: usize, peak: f64| -> Result<Vec<f64>> {
@@ -390,7 +427,7 @@ mod tests {
     #[test]
     fn the_record_has_its_peaks_and_ends_at_rest() {
         let s = spec();
-        let r = synthesize(&s).unwrap();
+        let r = synthesize(&s, &flag).unwrap();
         assert_eq!(r.x.len(), 4001);
         let peak = |a: &[f64]| a.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         assert!((peak(&r.x) / s.pga - 1.0).abs() < 1e-15);
@@ -418,15 +455,18 @@ mod tests {
 
     #[test]
     fn a_seed_gives_one_record_and_components_differ() {
-        let a = synthesize(&spec()).unwrap();
-        assert_eq!(a, synthesize(&spec()).unwrap());
+        let a = synthesize(&spec(), &flag).unwrap();
+        assert_eq!(a, synthesize(&spec(), &flag).unwrap());
         assert_ne!(a.x, a.y);
-        let other = synthesize(&Spec { seed: 8, ..spec() }).unwrap();
+        let other = synthesize(&Spec { seed: 8, ..spec() }, &flag).unwrap();
         assert_ne!(a.x, other.x);
-        let flat = synthesize(&Spec {
-            vertical_ratio: 0.0,
-            ..spec()
-        })
+        let flat = synthesize(
+            &Spec {
+                vertical_ratio: 0.0,
+                ..spec()
+            },
+            &flag,
+        )
         .unwrap();
         assert!(flat.z.iter().all(|v| *v == 0.0 && v.is_sign_positive()));
     }
@@ -488,7 +528,7 @@ mod tests {
             ),
         ];
         for (key, s) in cases {
-            let e = synthesize(&s).unwrap_err().to_string();
+            let e = synthesize(&s, &flag).unwrap_err().to_string();
             assert!(
                 e.starts_with(&format!("{key}: ")) && !e.contains('\n'),
                 "{e}"
