@@ -375,11 +375,11 @@ impl Recorder for Safety {
                     track.guide[0].lower(hl, t);
                     track.guide[1].lower(hr, t);
                     if let Some(coil) = coils.get(i) {
-                        for k in 0..3 {
-                            track.current[k].higher(coil[k].current.abs(), t);
-                            track.voltage[k].higher(coil[k].voltage.abs(), t);
-                            // As summary.json's coils: saturation is counted per step, not at t = 0.
-                            track.saturated[k] += usize::from(coil[k].saturated && !first);
+                        // As summary.json's coils: saturation is counted per step, not at t = 0.
+                        for (k, c) in coil.iter().enumerate() {
+                            track.current[k].higher(c.current.abs(), t);
+                            track.voltage[k].higher(c.voltage.abs(), t);
+                            track.saturated[k] += usize::from(c.saturated && !first);
                         }
                     }
                 }
