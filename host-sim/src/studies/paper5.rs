@@ -344,7 +344,11 @@ fn safety_markdown(runs: &[TrainRun]) -> String {
             let limit = f
                 .limit
                 .map_or(String::new(), |l| format!(" / {}", l * scale));
-            format!("{:.4}{limit} ({verdict})", f.value * scale)
+            let value = match f.unit {
+                "steps" => format!("{}", f.value),
+                _ => format!("{:.4}", f.value * scale),
+            };
+            format!("{value}{limit} ({verdict})")
         }
     };
     let mut md = String::from("\n## Running safety (docs/safety.md)\n\n| train | body peak (m/s²) | smallest levitation gap (mm) | collision steps | largest ΔP/P | lift-off steps | overall |\n|---|---|---|---|---|---|---|\n");
