@@ -65,8 +65,8 @@ pub struct Figure {
 }
 
 impl Figure {
-    /// A largest value judged `value ≤ limit`.
-    fn at_most(value: f64, unit: &'static str, at: Option<String>, t: Option<f64>) -> Self {
+    /// A figure, not yet judged.
+    fn new(value: f64, unit: &'static str, at: Option<String>, t: Option<f64>) -> Self {
         Figure {
             value,
             unit,
@@ -78,6 +78,7 @@ impl Figure {
         }
     }
 
+    /// The figure judged against `limit` (none: not judged) by `within(value, limit)`.
     fn limit(self, limit: Option<f64>, source: &'static str, within: fn(f64, f64) -> bool) -> Self {
         Figure {
             pass: limit.map(|l| within(self.value, l)),
@@ -181,7 +182,7 @@ pub struct SafetyReport {
     pub per_car: Vec<CarAcceleration>,
 }
 
-/// The smallest value seen and when.
+/// The smallest (or largest) value seen and its first time.
 #[derive(Clone, Copy, Debug)]
 struct Extreme {
     value: f64,
@@ -446,14 +447,14 @@ impl Safety {
             .collect();
         let worst = first_max(per_car.iter(), |c| c.peak);
         let rough = first_max(per_car.iter(), |c| c.rms);
-        let body_acceleration_peak = Figure::at_most(
+        let body_acceleration_peak = Figure::new(
             worst.map_or(0.0, |c| c.peak),
             "m/s²",
             worst.map(|c| c.car.clone()),
             worst.map(|c| c.t_s),
         )
         .limit(Some(BODY_ACCEL_LIMIT), BODY_ACCEL_SOURCE, le);
-        let body_acceleration_rms = Figure::at_most(
+        let body_acceleration_rms = Figure::new(
             rough.map_or(0.0, |c| c.rms),
             "m/s²",
             rough.map(|c| c.car.clone()),
@@ -491,7 +492,7 @@ impl Safety {
             .iter()
             .min_by(|a, b| a.lev.value.total_cmp(&b.lev.value))
             .expect("some magnet");
-        let levitation_gap_min = Figure::at_most(
+        let levitation_gap_min = Figure::new(
             lowest.lev.value,
             "m",
             Some(format!("{}.z", wheel(lowest.node))),
@@ -504,7 +505,7 @@ impl Safety {
             .flat_map(|m| (0..2).map(move |k| (m, k)))
             .min_by(|a, b| a.0.guide[a.1].value.total_cmp(&b.0.guide[b.1].value))
             .map(|(m, k)| {
-                Figure::at_most(
+                Figure::new(
                     m.guide[k].value,
                     "m",
                     Some(format!("{}.{}", wheel(m.node), SIDES[k + 1])),
@@ -513,7 +514,7 @@ impl Safety {
                 .limit(Some(GAP_LIMIT), GAP_SOURCE, gt)
             });
         let c = &self.collisions;
-        let collision_steps = Figure::at_most(c.steps as f64, "steps", None, c.first.map(|f| f.0))
+        let collision_steps = Figure::new(c.steps as f64, "steps", None, c.first.map(|f| f.0))
             .limit(Some(0.0), CONTACT_SOURCE, le);
         // Each coil quantity's largest over every magnet (levitation and guidance).
         let coil_peak = |q: fn(&MagnetTrack) -> &[Extreme; 3]| {
@@ -525,25 +526,21 @@ impl Safety {
         };
         let (current_peak, voltage_peak, saturated_longest) = if self.coils {
             let current = coil_peak(|m| &m.current).map(|(at, e)| {
-                Figure::at_most(e.value, "A", Some(at), Some(e.t)).limit(None, CURRENT_SOURCE, le)
+                Figure::new(e.value, "A", Some(at), Some(e.t)).limit(None, CURRENT_SOURCE, le)
             });
             let voltage = coil_peak(|m| &m.voltage).map(|(at, e)| {
                 let source = match self.voltage_limit {
                     Some(_) => VOLTAGE_SOURCE,
                     None => NO_VOLTAGE_SOURCE,
                 };
-                Figure::at_most(e.value, "V", Some(at), Some(e.t)).limit(
-                    self.voltage_limit,
-                    source,
-                    le,
-                )
+                Figure::new(e.value, "V", Some(at), Some(e.t)).limit(self.voltage_limit, source, le)
             });
             let saturated = first_max(ms.iter().flat_map(|m| (0..3).map(move |k| (m, k))), |a| {
                 a.0.saturated[a.1] as f64
             })
             .map(|(m, k)| {
                 let n = m.saturated[k];
-                Figure::at_most(
+                Figure::new(
                     n as f64 * self.dt,
                     "s",
                     (n > 0).then(|| format!("{}.{}", wheel(m.node), SIDES[k])),
@@ -576,7 +573,7 @@ impl Safety {
     fn wheel_rail_figures(&self) -> WheelRailFigures {
         let cs = &self.contacts;
         let worst = first_max(cs.iter(), |c| c.unloading.value).expect("some contact");
-        let unloading_max = Figure::at_most(
+        let unloading_max = Figure::new(
             worst.unloading.value,
             "1",
             Some(wheel(worst.node)),
@@ -584,7 +581,7 @@ impl Safety {
         )
         .limit(Some(UNLOADING_LIMIT), UNLOADING_SOURCE, le);
         let l = &self.lift_offs;
-        let lift_off_steps = Figure::at_most(
+        let lift_off_steps = Figure::new(
             l.steps as f64,
             "steps",
             l.first.and_then(|f| f.1).map(wheel),
