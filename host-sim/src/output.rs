@@ -2,6 +2,7 @@
 //! (drawn by [`crate::plot`]).
 
 pub mod owned;
+pub mod safety;
 pub mod staging;
 
 use crate::input::case::Case;
@@ -68,6 +69,9 @@ pub struct Summary {
     /// `[ground]`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ground: Option<serde_json::Value>,
+    /// The running-safety figures of a train (docs/safety.md); only for a run with a train.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub safety: Option<safety::SafetyReport>,
 }
 
 /// One magnet's gap range over a run.
@@ -191,6 +195,7 @@ impl Summary {
             coils,
             peaks,
             ground: None,
+            safety: None,
         }
     }
 }

@@ -30,7 +30,7 @@
 
 use crate::physics::guideway::{Guideway, SectionMotion};
 use crate::physics::vehicle::Node;
-use crate::simulation::{magnet_gaps, written};
+use crate::simulation::{magnet_gaps, written, Coil};
 use crate::{Error, Result};
 use std::io::Write;
 
@@ -339,9 +339,13 @@ pub enum Wheels<'a> {
         body_z: &'a [usize],
         /// Every guideway node in probe order (`wheel{N}`).
         nodes: &'a [Node],
-        /// Each wheel–rail contact's Z DOF and its force (N, compressive).
+        /// Each wheel–rail contact's Z DOF, its force and its static load P0 (N, compressive).
         contact_dofs: &'a [usize],
         contact_forces: &'a [f64],
+        contact_p0: &'a [f64],
+        /// Each magnet wheel's coils (levitation, guidance left, right) at the step, as the
+        /// magnets report them ([`crate::simulation::Magnets::coils`]; empty where they do not).
+        coils: &'a [[Coil; 3]],
     },
     /// Moving forces: each load's position and force.
     Forces {

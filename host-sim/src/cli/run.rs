@@ -5,6 +5,7 @@ use crate::cli::progress::Progress;
 use crate::ground::receivers::{self, BaseForces};
 use crate::ground::{criteria, levels};
 use crate::input::case::Case;
+use crate::output::safety::Safety;
 use crate::output::{
     fill_response_columns, gap_ranges, response_recorder, write_run, Columns, Staging, Summary,
 };
@@ -155,13 +156,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let case = crate::studies::design::load(&args.scenario, &args.sets)?;
     let out = Staging::new(&args.out)?;
     let mut rec = response_recorder(&out, case.probes.clone())?;
+    let mut safety = Safety::for_case(&case);
     let mut bar = Progress::run("run");
     let mut base = ground_recorder(&case);
+    let mut with_safety = Tee(&mut rec, &mut safety);
     let run = match &mut base {
-        Some(b) => simulate(&case, Controllers::Core, &mut Tee(&mut rec, b), |f| {
+        Some(b) => simulate(
+            &case,
+            Controllers::Core,
+            &mut Tee(&mut with_safety, b),
+            |f| bar.fraction(f),
+        )?,
+        None => simulate(&case, Controllers::Core, &mut with_safety, |f| {
             bar.fraction(f)
         })?,
-        None => simulate(&case, Controllers::Core, &mut rec, |f| bar.fraction(f))?,
     };
     drop(bar);
     rec.finish()?;
@@ -174,6 +182,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let columns = Columns::read(&out)?;
     let mut summary = Summary::new(&args.scenario, &case, &outcome, wall, &columns);
     summary.ground = ground;
+    summary.safety = safety.report();
     write_run(&out, &outcome, &summary, &args.sets, &columns)?;
     out.finish()?;
     eprintln!(

@@ -129,11 +129,13 @@ struct Tally {
     first_collision_t: Option<f64>,
 }
 
-/// The train-wide DOF indices the probes read (cars concatenated in order).
+/// The train-wide DOF indices the probes read (cars concatenated in order), and each
+/// contact's static load (the recorders' reference for its unloading).
 struct ProbeDofs {
     /// Each magnet wheel's (Y, Z) DOFs (no Y: a magnet without guidance).
     wheels: Vec<(Option<usize>, usize)>,
     contacts: Vec<usize>,
+    contact_p0: Vec<f64>,
     body_z: Vec<usize>,
 }
 
@@ -197,6 +199,7 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
                 .iter()
                 .map(|c| veh.global(c.car, c.dof_z))
                 .collect(),
+            contact_p0: v.contacts.iter().map(|c| c.p0).collect(),
             body_z: (0..v.cars.len())
                 .map(|c| veh.global(c, v.cars[c].body_z))
                 .collect(),
@@ -472,6 +475,8 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
                 nodes: &self.train.nodes,
                 contact_dofs: &self.dofs.contacts,
                 contact_forces: &self.it.contact_p,
+                contact_p0: &self.dofs.contact_p0,
+                coils: self.magnets.coils(),
             }
         };
         rec.record(&StepView {

@@ -12,6 +12,7 @@ pub mod ground;
 
 use crate::bands::{self, Averaging, BandLevel, Level, Motion};
 use crate::ground::receivers::BaseForces;
+use crate::output::safety::{Figure, Safety, SafetyReport};
 use crate::physics::fe::soil::Soil;
 use crate::plot::{self, Plot, Series};
 use crate::probes::{Rows, Tee};
@@ -43,6 +44,8 @@ pub struct TrainRun {
     /// The soil and the span length of the case (the ground section's half-space and piers).
     pub soil: Soil,
     pub span: f64,
+    /// The running-safety figures (docs/safety.md).
+    pub safety: Option<SafetyReport>,
 }
 
 /// One train's whole-record band levels (re 1e-6 m/s²) at the carriage and at the pier.
@@ -75,10 +78,11 @@ pub fn run_train(train: &str, sets: &[String], progress: impl FnMut(f64)) -> Res
     };
     let f = &v.foundation;
     let mut base = BaseForces::new(v.spans + 1, f.stiffness[2], f.damping[2]);
+    let mut safety = Safety::for_case(&case);
     let run = simulate(
         &case,
         Controllers::Core,
-        &mut Tee(&mut rows, &mut base),
+        &mut Tee(&mut Tee(&mut rows, &mut base), &mut safety),
         progress,
     )?;
     let column = |name: &str| {
@@ -98,6 +102,7 @@ pub fn run_train(train: &str, sets: &[String], progress: impl FnMut(f64)) -> Res
         base,
         soil: *soil,
         span: v.span_length,
+        safety: safety.report(),
     })
 }
 
@@ -283,6 +288,7 @@ pub fn markdown(
             peak(&r.pier)
         );
     }
+    md.push_str(&safety_markdown(runs));
     let _ = writeln!(
         md,
         "\n## The paper's statements\n\n| statement | measured | verdict |\n|---|---|---|"
@@ -323,5 +329,46 @@ pub fn markdown(
         );
     }
     let _ = writeln!(md, "\n![Fig. 8](fig8.svg)\n");
+    md
+}
+
+/// The running-safety table of the runs (docs/safety.md): each judged figure with its limit
+/// and verdict, "–" where the train has no such figure.
+fn safety_markdown(runs: &[TrainRun]) -> String {
+    let cell = |f: Option<&Figure>, scale: f64| match f {
+        None => "–".to_string(),
+        Some(f) => {
+            let verdict = match f.pass {
+                Some(true) => "pass".to_string(),
+                Some(false) => "**fail**".to_string(),
+                None => "no limit".to_string(),
+            };
+            let limit = f
+                .limit
+                .map_or(String::new(), |l| format!(" / {}", l * scale));
+            let value = match f.unit {
+                "steps" => format!("{}", f.value),
+                _ => format!("{:.4}", f.value * scale),
+            };
+            format!("{value}{limit} ({verdict})")
+        }
+    };
+    let mut md = String::from("\n## Running safety (docs/safety.md)\n\n| train | body peak (m/s²) | smallest levitation gap (mm) | collision steps | largest ΔP/P | lift-off steps | overall |\n|---|---|---|---|---|---|---|\n");
+    for r in runs {
+        let Some(s) = &r.safety else { continue };
+        let (m, w) = (s.maglev.as_ref(), s.wheel_rail.as_ref());
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} |",
+            r.train,
+            cell(Some(&s.body_acceleration_peak), 1.0),
+            cell(m.map(|m| &m.levitation_gap_min), 1e3),
+            cell(m.map(|m| &m.collision_steps), 1.0),
+            cell(w.map(|w| &w.unloading_max), 1.0),
+            cell(w.map(|w| &w.lift_off_steps), 1.0),
+            if s.pass { "pass" } else { "**fail**" }
+        );
+    }
+    md.push_str("\nValues / limits; the limits' sources are in summary.json's `safety` and docs/safety.md. Q/P is not computed (no lateral wheel–rail force in the model).\n");
     md
 }
