@@ -195,7 +195,11 @@ impl<'de, T: serde::de::DeserializeOwned> Deserialize<'de> for WithSection<T> {
         let (own_keys, beam_keys) = (keys_of::<T>(), keys_of::<BeamSectionKeys>());
         let known = |k: &str| own_keys.contains(&k) || beam_keys.contains(&k);
         if let Some(k) = own.keys().find(|k| !known(k)) {
-            let all: Vec<String> = own_keys.iter().chain(beam_keys).map(|k| format!("`{k}`")).collect();
+            let all: Vec<String> = own_keys
+                .iter()
+                .chain(beam_keys)
+                .map(|k| format!("`{k}`"))
+                .collect();
             return Err(D::Error::custom(format!(
                 "unknown field `{k}`, expected one of {}",
                 all.join(", ")
@@ -617,7 +621,8 @@ pub fn parse(text: &str, name: &str, sets: &[String]) -> Result<Scenario> {
 fn one_line(s: &str) -> String {
     let s = s.split_whitespace().collect::<Vec<_>>().join(" ");
     let mut parts: Vec<&str> = s.split(" in `").collect();
-    let is_key = |p: &&&str| p.len() > 1 && p.ends_with('`') && !p[..p.len() - 1].contains(['`', ' ']);
+    let is_key =
+        |p: &&&str| p.len() > 1 && p.ends_with('`') && !p[..p.len() - 1].contains(['`', ' ']);
     let keys = parts.iter().skip(1).rev().take_while(is_key).count();
     if keys < 2 {
         return s;
@@ -773,7 +778,11 @@ mod tests {
             let e = parse(&text.replace(line, bad), name, &[])
                 .unwrap_err()
                 .to_string();
-            let section = if text.contains("[train]") { "train" } else { "vehicle" };
+            let section = if text.contains("[train]") {
+                "train"
+            } else {
+                "vehicle"
+            };
             assert!(e.contains(&format!("`{section}.{key}`")), "{name}: {e}");
         }
     }
@@ -785,13 +794,41 @@ mod tests {
     fn a_beam_section_key_is_named_whole() {
         let p5 = BUNDLED.iter().find(|(n, _)| *n == "paper-5").unwrap().1;
         for (text, sets, want) in [
-            (p5.replace("iy_m4 = 9.96", "iy_m4 = \"x\""), vec![], "expected f64 in `bridge.iy_m4`"),
-            (p5.to_string(), vec!["bridge.pier.iz_m4=true"], "expected f64 in `bridge.pier.iz_m4`"),
-            (p5.to_string(), vec!["bridge.pier.height_m=[1]"], "expected f64 in `bridge.pier.height_m`"),
-            (p5.to_string(), vec!["bridge.spans_m=3"], "in `bridge.spans_m`"),
-            (p5.to_string(), vec!["bridge.damping.ratio=\"a\""], "in `bridge.damping.ratio`"),
-            (p5.to_string(), vec!["bridge.iy=1"], "unknown field `iy`, expected one of `spans_m`"),
-            (p5.to_string(), vec!["bridge.pier.iy=1"], "unknown field `iy`, expected one of `height_m`"),
+            (
+                p5.replace("iy_m4 = 9.96", "iy_m4 = \"x\""),
+                vec![],
+                "expected f64 in `bridge.iy_m4`",
+            ),
+            (
+                p5.to_string(),
+                vec!["bridge.pier.iz_m4=true"],
+                "expected f64 in `bridge.pier.iz_m4`",
+            ),
+            (
+                p5.to_string(),
+                vec!["bridge.pier.height_m=[1]"],
+                "expected f64 in `bridge.pier.height_m`",
+            ),
+            (
+                p5.to_string(),
+                vec!["bridge.spans_m=3"],
+                "in `bridge.spans_m`",
+            ),
+            (
+                p5.to_string(),
+                vec!["bridge.damping.ratio=\"a\""],
+                "in `bridge.damping.ratio`",
+            ),
+            (
+                p5.to_string(),
+                vec!["bridge.iy=1"],
+                "unknown field `iy`, expected one of `spans_m`",
+            ),
+            (
+                p5.to_string(),
+                vec!["bridge.pier.iy=1"],
+                "unknown field `iy`, expected one of `height_m`",
+            ),
         ] {
             let sets: Vec<String> = sets.into_iter().map(String::from).collect();
             let e = parse(&text, "paper-5", &sets).unwrap_err().to_string();
@@ -809,7 +846,9 @@ mod tests {
             assert!(!e.contains(&format!("`{not}`")), "{not}: {e}");
         }
         // A key left out is named; the beam's keys are as required as the section's own.
-        let e = parse(&p5.replace("iz_m4 = 62.1", ""), "paper-5", &[]).unwrap_err().to_string();
+        let e = parse(&p5.replace("iz_m4 = 62.1", ""), "paper-5", &[])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("missing field `iz_m4`"), "{e}");
     }
 }

@@ -53,7 +53,8 @@ impl BeamSectionKeys {
             range(k, v, area * 1e-3, area, why)
         };
         let inertia = |k: &str, v: f64| {
-            let why = "m⁴: a hundredth of a rail's 3e-5 m⁴ to a hundred times the largest box girder's";
+            let why =
+                "m⁴: a hundredth of a rail's 3e-5 m⁴ to a hundred times the largest box girder's";
             range(k, v, 1e-8, 1e4, why)
         };
         Ok(BeamSection {
@@ -186,14 +187,24 @@ mod tests {
     fn girder_and_pier_keys_are_checked_alike() {
         for prefix in ["bridge", "bridge.pier"] {
             for (key, value, says) in [
-                ("shear_modulus_kN_per_m2", "1.0", "youngs_modulus/1000 to youngs_modulus"),
-                ("shear_area_y_m2", "1000.0", "a shear area is a part of the section"),
+                (
+                    "shear_modulus_kN_per_m2",
+                    "1.0",
+                    "youngs_modulus/1000 to youngs_modulus",
+                ),
+                (
+                    "shear_area_y_m2",
+                    "1000.0",
+                    "a shear area is a part of the section",
+                ),
                 ("iz_m4", "1e-9", "m⁴"),
                 ("mass_t_per_m", "1e-3", "t/m"),
                 ("youngs_modulus_kN_per_m2", "-1.0", "positive"),
             ] {
                 let set = format!("{prefix}.{key}={value}");
-                let e = Case::load("paper-5", &[set.clone()]).unwrap_err().to_string();
+                let e = Case::load("paper-5", &[set.clone()])
+                    .unwrap_err()
+                    .to_string();
                 assert!(
                     e.starts_with(&format!("{prefix}.{key}: must be")) && e.contains(says),
                     "{set}: {e}"

@@ -147,7 +147,6 @@ pub(super) fn check_budget(b: &Budget) -> Result<()> {
     Ok(())
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::super::Case;

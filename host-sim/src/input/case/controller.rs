@@ -208,7 +208,6 @@ fn state_law(s: Option<&StateSection>, geometry: Geometry) -> Result<LawChoice> 
     })
 }
 
-
 /// The law as summary.json records it: `kind` (its name) and the law's own parameters under
 /// their serde names (`maglev_core::law`), whichever law it is; a law still to be designed is
 /// `{"kind": …, "design": "pending"}`.

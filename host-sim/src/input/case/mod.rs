@@ -20,17 +20,19 @@
 //! summary.json records of a case is its serialisation ([`Case::record`]): the SI types
 //! carry the keys (`youngs_modulus_Pa`, …), nothing lists a section's fields a second time.
 
-
-mod budget;
 mod bridge;
+mod budget;
+mod changes;
 mod checks;
 mod controller;
 mod probes;
+mod record;
 mod train;
 mod viaduct;
 
 pub use bridge::{check_fe_size, MAX_CONDITION, MAX_FE_DOFS};
 pub use budget::{MAX_PROFILE_M, MAX_RECORD_BYTES, MAX_STEPS, MAX_SUB_STEPS};
+pub use changes::Changes;
 pub use checks::MAX_MAGNITUDE;
 pub use controller::LawChoice;
 pub use train::{fig6, TrainCase, MAX_CARS, MAX_LOADS};
@@ -47,7 +49,7 @@ use crate::{Error, Result};
 use checks::{at_least, bounded, non_negative, positive};
 use maglev_core::gap::Geometry;
 use maglev_core::levitation::GRAVITY;
-use maglev_core::{LawKind, LawName, Params, Scheme};
+use maglev_core::{LawKind, Params};
 use serde::Serialize;
 
 /// The most modes the modal reference may keep per span (each mode is a dense vector over
@@ -101,7 +103,7 @@ pub struct Case {
     /// The irregularity's seed, when the irregularity is on.
     pub irregularity_seed: Option<u64>,
     /// What response.csv records.
-    #[serde(serialize_with = "probe_names")]
+    #[serde(serialize_with = "record::probe_names")]
     pub probes: Probes,
     /// The half-space under the viaduct (`[soil]`), in SI.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -109,20 +111,6 @@ pub struct Case {
     /// Ground receivers `[x, y]` (m) whose vertical velocity the run writes (`[ground]`).
     #[serde(rename = "ground_receivers_m", skip_serializing_if = "Option::is_none")]
     pub ground: Option<Vec<[f64; 2]>>,
-}
-
-/// Typed changes to a case (what validate and a sweep vary), applied by [`Case::with`].
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Changes {
-    pub speed: Option<f64>,
-    pub model: Option<Model>,
-    pub elements: Option<usize>,
-    pub modes: Option<usize>,
-    pub dt: Option<f64>,
-    pub t_end: Option<f64>,
-    pub n_sub: Option<u32>,
-    pub scheme: Option<Scheme>,
-    pub law: Option<LawName>,
 }
 
 impl Case {
@@ -148,7 +136,12 @@ impl Case {
             MAX_ITERATIONS as usize,
         )?;
         let bridge = bridge::bridge(&sc.bridge)?;
-        let damping = sc.bridge.damping.as_ref().map(bridge::rayleigh).transpose()?;
+        let damping = sc
+            .bridge
+            .damping
+            .as_ref()
+            .map(bridge::rayleigh)
+            .transpose()?;
         if damping.is_some() && (sc.run.model != Model::Fe || sc.bridge.kind != BridgeKind::Spans) {
             return Err(Error::invalid(
                 "bridge.damping",
@@ -247,53 +240,6 @@ impl Case {
         })
     }
 
-    /// This case with `changes` applied to its scenario and resolved again (module docs).
-    pub fn with(&self, changes: &Changes) -> Result<Case> {
-        let mut sc = self.scenario.clone();
-        let r = &mut sc.run;
-        if let Some(v) = changes.speed {
-            r.speed_m_per_s = v;
-        }
-        if let Some(v) = changes.model {
-            r.model = v;
-        }
-        if let Some(v) = changes.elements {
-            r.elements_per_span = v;
-        }
-        if let Some(v) = changes.modes {
-            r.modes = v;
-        }
-        if let Some(v) = changes.dt {
-            r.dt_s = v;
-        }
-        if let Some(v) = changes.t_end {
-            r.t_end_s = Some(v);
-        }
-        let controller_change =
-            changes.n_sub.is_some() || changes.scheme.is_some() || changes.law.is_some();
-        match (&mut sc.controller, controller_change) {
-            (Some(c), _) => {
-                if let Some(v) = changes.n_sub {
-                    c.nsub = v;
-                }
-                if let Some(v) = changes.scheme {
-                    c.scheme = v;
-                }
-                if let Some(v) = changes.law {
-                    c.law = v;
-                }
-            }
-            (None, true) => {
-                return Err(Error::invalid(
-                    "controller",
-                    "the case has no [controller] section to change",
-                ))
-            }
-            (None, false) => {}
-        }
-        Case::new(sc)
-    }
-
     /// The train this case runs (Fig. 1 cars with per-car static p0), or `None` for a train
     /// of forces.
     pub fn vehicle_train(&self) -> Result<Option<Train>> {
@@ -339,28 +285,6 @@ impl Case {
             })
             .collect()
     }
-
-    /// Every value the run uses, in SI with the unit in each key (summary.json `case`): the
-    /// case's serialisation, each section by its SI type's keys; the controller is its
-    /// section as written (its keys are SI already).
-    pub fn record(&self) -> serde_json::Value {
-        let mut record = serde_json::to_value(self).unwrap_or_else(|e| unserialisable(e));
-        record["controller"] =
-            serde_json::to_value(&self.scenario.controller).unwrap_or_else(|e| unserialisable(e));
-        record
-    }
-}
-
-/// Serialising a case to JSON cannot fail (no map has a non-string key, every enum is
-/// representable; `record_holds_every_section_in_si` records every kind), so a failure is
-/// a bug of this module.
-fn unserialisable(e: serde_json::Error) -> serde_json::Value {
-    unreachable!("a case serialises to JSON: {e}")
-}
-
-/// The probe names, in response.csv's order.
-fn probe_names<S: serde::Serializer>(p: &Probes, s: S) -> std::result::Result<S::Ok, S::Error> {
-    p.names.serialize(s)
 }
 
 #[cfg(test)]
@@ -413,41 +337,6 @@ mod tests {
         assert!(e.to_string().starts_with("train.loads_kN"), "{e}");
     }
 
-    /// A derived case equals the case the same `--set` text gives.
-    #[test]
-    fn changes_equal_the_set_text() {
-        let base = Case::load("paper-4.2", &[]).unwrap();
-        let changed = base
-            .with(&Changes {
-                speed: Some(150.0),
-                model: Some(Model::Modal),
-                dt: Some(5e-4),
-                n_sub: Some(10),
-                ..Changes::default()
-            })
-            .unwrap();
-        let text = Case::load(
-            "paper-4.2",
-            &[
-                "speed=150".into(),
-                "model=modal".into(),
-                "dt=5e-4".into(),
-                "nsub=10".into(),
-            ],
-        )
-        .unwrap();
-        assert_eq!(changed.record(), text.record());
-        assert!((changed.t_end - (40.0 / 150.0 + 0.1)).abs() < 1e-12);
-        let e = Case::load("moving-force", &[])
-            .unwrap()
-            .with(&Changes {
-                n_sub: Some(3),
-                ..Changes::default()
-            })
-            .unwrap_err();
-        assert!(e.to_string().starts_with("controller"), "{e}");
-    }
-
     /// The committed seeds of the input fuzz target (fuzz/corpus/input, docs/scenarios.md
     /// "Fuzzing the input path") resolve: a seed that no longer does starts the fuzzer at an
     /// error instead of deep in `Case::new`. Input shape: TEXT or a bundled name, then NUL and
@@ -471,79 +360,5 @@ mod tests {
             seeds += 1;
         }
         assert!(seeds >= 10, "{seeds} seeds in {}", dir.display());
-    }
-
-    /// summary.json's `case` is the case in SI under keys that name the unit: the files'
-    /// values converted by hand here (kN → N, t → kg), one check or more per section and
-    /// per train kind, and a damped case's Rayleigh coefficients from their closed form.
-    #[test]
-    fn record_holds_every_section_in_si() {
-        use serde_json::json;
-        let r = Case::load("paper-4.2", &[]).unwrap().record();
-        assert_eq!(r["bridge"]["spans_m"], json!([25.0]));
-        assert_eq!(r["bridge"]["youngs_modulus_Pa"], 3.6e10);
-        assert_eq!(r["bridge"]["shear_modulus_Pa"], 1.6e10);
-        assert_eq!(r["bridge"]["mass_kg_per_m"], 3.5e3);
-        assert!(r["bridge"]["polar_mass_kg_m2_per_m"].is_null());
-        assert_eq!(r["train"]["kind"], "fig1");
-        assert_eq!(r["train"]["body_mass_kg"], 15e3);
-        assert_eq!(r["train"]["jz_kg_m2"], 1.6e6);
-        assert_eq!(r["train"]["spring_N_per_m"], 2e5);
-        assert_eq!(r["train"]["damper_N_s_per_m"], 1e4);
-        assert_eq!(r["train"]["cars"], 1);
-        assert_eq!(r["controller"]["i0_A"], 43.0);
-        assert_eq!(r["controller"]["nsub"], 1000);
-        assert_eq!(r["controller"]["interp"], "linear");
-        assert!(r["controller"]["vmax_V"].is_null(), "inf is null in JSON");
-        assert_eq!(r["law"], json!({"kind": "paper"}));
-        assert_eq!((r["model"].clone(), r["geometry"].clone()), (json!("fe"), json!("paper")));
-        assert_eq!(r["speed_m_per_s"], 100.0);
-        assert!(r["viaduct"].is_null());
-        for absent in ["soil", "damping", "ground_receivers_m", "scenario"] {
-            assert!(r.get(absent).is_none(), "{absent}");
-        }
-
-        let r = Case::load("paper-5", &[]).unwrap().record();
-        let v = &r["viaduct"];
-        assert_eq!(v["pier"]["youngs_modulus_Pa"], 3.15e10);
-        assert_eq!(v["pier"]["height_m"], 10.0);
-        assert_eq!(v["pier"]["elements"], 4);
-        assert_eq!(v["pier"]["cap_mass_kg"], 150e3);
-        assert_eq!(v["bearings"]["vertical_N_per_m"], 1e9);
-        assert_eq!(v["bearings"]["drop_m"], 2.1);
-        // A rigid 9 × 12 × 2.5 m footing of 2.5 t/m³.
-        assert_eq!(v["foundation"]["mass_kg"], 2500.0 * 9.0 * 12.0 * 2.5);
-        assert_eq!(v["girder"]["youngs_modulus_Pa"], 3.55e10);
-        assert_eq!(r["bridge"]["polar_mass_kg_m2_per_m"], 324.15 * 1e3);
-        assert_eq!(r["soil"]["density_kg_per_m3"], 1.9 * 1e3);
-        assert_eq!(r["soil"]["damping_ratio"], 0.03);
-        assert_eq!(r["train"]["kind"], "maglev");
-        assert_eq!(r["train"]["magnets"], 384);
-        let r = Case::load("paper-5", &["train=wheel-rail".into()]).unwrap().record();
-        assert_eq!((r["train"]["kind"].clone(), r["train"]["cars"].clone()), (json!("wheel-rail"), json!(12)));
-
-        let r = Case::load("train-forces", &[]).unwrap().record();
-        let loads = r["train"]["loads"].as_array().unwrap();
-        assert_eq!((r["train"]["kind"].clone(), loads.len()), (json!("forces"), 16 * 12));
-        assert_eq!(loads[1], json!({"x0_m": -1.5625, "force_N": 25e3, "ey_m": 0.0, "ez_m": 0.0}));
-        assert_eq!(loads[16]["x0_m"], -25.0);
-        assert!(r["controller"].is_null());
-
-        let r = Case::load("unit", &[]).unwrap().record();
-        assert_eq!(r["train"]["kind"], "unit");
-        assert_eq!(r["train"]["magnet_mass_kg"], 600.0);
-        assert_eq!(r["train"]["body_mass_kg"], 3750.0);
-        assert_eq!(r["train"]["position_m"], 10.0);
-
-        let damped = "bridge.damping={ratio=0.02, f1_Hz=5.0, f2_Hz=20.0}";
-        let r = Case::load("moving-force", &[damped.into()]).unwrap().record();
-        let (w1, w2) = (2.0 * std::f64::consts::PI * 5.0, 2.0 * std::f64::consts::PI * 20.0);
-        let alpha = r["damping"]["alpha_per_s"].as_f64().unwrap();
-        let beta = r["damping"]["beta_s"].as_f64().unwrap();
-        // ζ(ω) = α/(2ω) + β·ω/2 is the given ratio at both frequencies.
-        for w in [w1, w2] {
-            assert!((alpha / (2.0 * w) + beta * w / 2.0 - 0.02).abs() < 1e-15, "{w}");
-        }
-        assert_eq!(r["train"]["loads"][0]["force_N"], 36_790.0);
     }
 }

@@ -138,92 +138,81 @@ pub(super) fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
 
 /// A `fig1` train in SI: `repeat` cars, `car_length_m` apart.
 fn fig1(k: &Fig1Keys) -> Result<(TrainCase, Geometry)> {
-            let kilo = |key: &str, v: f64| positive(key, v).map(|v| v * 1e3);
-            // A body lighter than 1 kg (or an inertia under 1 kg·m²) leaves its effective
-            // stiffness singular to f64 beside the suspension's.
-            let body = |key: &str, v: f64, unit: &str| {
-                within(
-                    key,
-                    positive(key, v)?,
-                    1e-3,
-                    1e6,
-                    &format!("{unit}: 1 kg to 1000 cars"),
-                )
-                .map(|v| v * 1e3)
-            };
-            if !(k.wheel_mass_kg >= 0.0 && k.wheel_mass_kg.is_finite()) {
-                return Err(Error::invalid(
-                    "vehicle.wheel_mass_kg",
-                    format!(
-                        "must be zero or a positive finite number, got {}",
-                        k.wheel_mass_kg
-                    ),
-                ));
-            }
-            let car = Fig1 {
-                body_mass: body("vehicle.body_mass_t", k.body_mass_t, "t")?,
-                jx: body("vehicle.jx_t_m2", k.jx_t_m2, "t·m²")?,
-                jy: body("vehicle.jy_t_m2", k.jy_t_m2, "t·m²")?,
-                jz: body("vehicle.jz_t_m2", k.jz_t_m2, "t·m²")?,
-                k: kilo("vehicle.spring_kN_per_m", k.spring_kN_per_m)?,
-                c: kilo("vehicle.damper_kN_s_per_m", k.damper_kN_s_per_m)?,
-                half_length: within(
-                    "vehicle.half_length_m",
-                    positive("vehicle.half_length_m", k.half_length_m)?,
-                    0.05,
-                    100.0,
-                    "m: a bogie's half wheelbase to a long car's",
-                )?,
-                half_width: within(
-                    "vehicle.half_width_m",
-                    finite("vehicle.half_width_m", k.half_width_m)?,
-                    0.05,
-                    10.0,
-                    "m: the magnets left and right of the centre; 0 leaves roll unsupported",
-                )?,
-                offset_y: finite("vehicle.offset_y_m", k.offset_y_m)?,
-                target_height: finite("vehicle.target_height_m", k.target_height_m)?,
-                body_height: within(
-                    "vehicle.body_height_m",
-                    finite("vehicle.body_height_m", k.body_height_m)?,
-                    -20.0,
-                    20.0,
-                    "m: within a car's height of the magnets",
-                )?,
-                wheel_mass: k.wheel_mass_kg,
-                com_ahead: 0.0,
-            };
-            bounded("train.repeat", k.repeat, 1, MAX_CARS)?;
-            let car_length = match k.car_length_m {
-                Some(l) if !(l.is_finite() && l >= 2.0 * k.half_length_m) => {
-                    return Err(Error::invalid(
-                        "train.car_length_m",
-                        format!(
-                            "must be a finite number of at least the wheelbase 2·half_length_m = {} m, got {l}",
-                            2.0 * k.half_length_m
-                        ),
-                    ))
-                }
-                Some(l) => l,
-                None if k.repeat == 1 => 0.0,
-                None => {
-                    return Err(Error::invalid(
-                        "train.car_length_m",
-                        "is needed when train.repeat > 1",
-                    ))
-                }
-            };
-            // The car must be buildable (a positive-definite block, magnets that lift).
-            VehicleModel::fig1(&car, GRAVITY)?;
-            Ok((
-                TrainCase::Fig1 {
-                    car,
-                    cars: k.repeat,
-                    car_length,
-                },
-                k.geometry,
+    let kilo = |key: &str, v: f64| positive(key, v).map(|v| v * 1e3);
+    // A body lighter than 1 kg (or an inertia under 1 kg·m²) leaves its effective
+    // stiffness singular to f64 beside the suspension's.
+    let body = |key: &str, v: f64, unit: &str| {
+        within(
+            key,
+            positive(key, v)?,
+            1e-3,
+            1e6,
+            &format!("{unit}: 1 kg to 1000 cars"),
+        )
+        .map(|v| v * 1e3)
+    };
+    let car = Fig1 {
+        body_mass: body("vehicle.body_mass_t", k.body_mass_t, "t")?,
+        jx: body("vehicle.jx_t_m2", k.jx_t_m2, "t·m²")?,
+        jy: body("vehicle.jy_t_m2", k.jy_t_m2, "t·m²")?,
+        jz: body("vehicle.jz_t_m2", k.jz_t_m2, "t·m²")?,
+        k: kilo("vehicle.spring_kN_per_m", k.spring_kN_per_m)?,
+        c: kilo("vehicle.damper_kN_s_per_m", k.damper_kN_s_per_m)?,
+        half_length: within(
+            "vehicle.half_length_m",
+            positive("vehicle.half_length_m", k.half_length_m)?,
+            0.05,
+            100.0,
+            "m: a bogie's half wheelbase to a long car's",
+        )?,
+        half_width: within(
+            "vehicle.half_width_m",
+            finite("vehicle.half_width_m", k.half_width_m)?,
+            0.05,
+            10.0,
+            "m: the magnets left and right of the centre; 0 leaves roll unsupported",
+        )?,
+        offset_y: finite("vehicle.offset_y_m", k.offset_y_m)?,
+        target_height: finite("vehicle.target_height_m", k.target_height_m)?,
+        body_height: within(
+            "vehicle.body_height_m",
+            finite("vehicle.body_height_m", k.body_height_m)?,
+            -20.0,
+            20.0,
+            "m: within a car's height of the magnets",
+        )?,
+        wheel_mass: non_negative("vehicle.wheel_mass_kg", k.wheel_mass_kg)?,
+        com_ahead: 0.0,
+    };
+    bounded("train.repeat", k.repeat, 1, MAX_CARS)?;
+    let car_length = match k.car_length_m {
+        Some(l) if !(l.is_finite() && l >= 2.0 * k.half_length_m) => return Err(Error::invalid(
+            "train.car_length_m",
+            format!(
+                "must be a finite number of at least the wheelbase 2·half_length_m = {} m, got {l}",
+                2.0 * k.half_length_m
+            ),
+        )),
+        Some(l) => l,
+        None if k.repeat == 1 => 0.0,
+        None => {
+            return Err(Error::invalid(
+                "train.car_length_m",
+                "is needed when train.repeat > 1",
             ))
         }
+    };
+    // The car must be buildable (a positive-definite block, magnets that lift).
+    VehicleModel::fig1(&car, GRAVITY)?;
+    Ok((
+        TrainCase::Fig1 {
+            car,
+            cars: k.repeat,
+            car_length,
+        },
+        k.geometry,
+    ))
+}
 
 /// The Fig. 6 carriage of a `maglev` train: the defaults of docs/cars.md with magnet nodes of
 /// `magnet_mass` (kg).
@@ -341,7 +330,6 @@ fn extent_of(t: &Train) -> (usize, f64) {
         .fold(0.0, |m: f64, x| m.max(-x));
     (t.nodes.len(), behind)
 }
-
 
 #[cfg(test)]
 mod tests {

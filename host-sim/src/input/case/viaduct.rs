@@ -5,10 +5,10 @@
 //! [`BeamSectionKeys::resolve`]: crate::input::scenario::BeamSectionKeys::resolve
 
 use super::checks::{bounded, finite, non_negative, positive, within};
+use crate::ground::green::{MAX_DAMPING, MIN_DAMPING};
 use crate::input::scenario::{BridgeKind, BridgeSection, GroundSection, SoilSection};
 use crate::physics::fe::soil::Soil;
 use crate::physics::fe::viaduct::{BearingSpec, FoundationSpec, PierSpec, ViaductSpec};
-use crate::ground::green::{MAX_DAMPING, MIN_DAMPING};
 use crate::physics::guideway::Bridge;
 use crate::{Error, Result};
 
@@ -249,7 +249,6 @@ pub(super) fn ground(
     }
     Ok(points)
 }
-
 
 #[cfg(test)]
 mod tests {
