@@ -202,7 +202,7 @@ mod tests {
                 ("youngs_modulus_kN_per_m2", "-1.0", "positive"),
             ] {
                 let set = format!("{prefix}.{key}={value}");
-                let e = Case::load("paper-5", &[set.clone()])
+                let e = Case::load("paper-5", std::slice::from_ref(&set))
                     .unwrap_err()
                     .to_string();
                 assert!(

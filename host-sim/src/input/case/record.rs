@@ -11,9 +11,9 @@ impl Case {
     /// case's serialisation, each section by its SI type's keys; the controller is its
     /// section as written (its keys are SI already).
     pub fn record(&self) -> serde_json::Value {
-        let mut record = serde_json::to_value(self).unwrap_or_else(|e| unserialisable(e));
+        let mut record = serde_json::to_value(self).unwrap_or_else(unserialisable);
         record["controller"] =
-            serde_json::to_value(&self.scenario.controller).unwrap_or_else(|e| unserialisable(e));
+            serde_json::to_value(&self.scenario.controller).unwrap_or_else(unserialisable);
         record
     }
 }

@@ -186,13 +186,15 @@ fn fig1(k: &Fig1Keys) -> Result<(TrainCase, Geometry)> {
     };
     bounded("train.repeat", k.repeat, 1, MAX_CARS)?;
     let car_length = match k.car_length_m {
-        Some(l) if !(l.is_finite() && l >= 2.0 * k.half_length_m) => return Err(Error::invalid(
-            "train.car_length_m",
-            format!(
+        Some(l) if !(l.is_finite() && l >= 2.0 * k.half_length_m) => {
+            return Err(Error::invalid(
+                "train.car_length_m",
+                format!(
                 "must be a finite number of at least the wheelbase 2·half_length_m = {} m, got {l}",
                 2.0 * k.half_length_m
             ),
-        )),
+            ))
+        }
         Some(l) => l,
         None if k.repeat == 1 => 0.0,
         None => {
