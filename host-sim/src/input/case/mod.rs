@@ -13,10 +13,10 @@
 //! checked exactly as a loaded one and equals the case the same `--set` text would give.
 //!
 //! One file per section, each holding that section's one conversion, its checks and its
-//! tests: [`bridge`] (the girders, the beam section shared with the piers, damping, the FE
-//! size), [`viaduct`] (bearings, piers, footings, soil, ground receivers), [`train`] (each
-//! vehicle kind), [`controller`] (the magnets' parameters and the law), [`probes`],
-//! [`budget`] (whole-case limits) and [`checks`] (the value checks they all use). What
+//! tests: `bridge.rs` (the girders, the beam section shared with the piers, damping, the FE
+//! size), `viaduct.rs` (bearings, piers, footings, soil, ground receivers), `train.rs` (each
+//! vehicle kind), `controller.rs` (the magnets' parameters and the law), `probes.rs`,
+//! `budget.rs` (whole-case limits) and `checks.rs` (the value checks they all use). What
 //! summary.json records of a case is its serialisation ([`Case::record`]): the SI types
 //! carry the keys (`youngs_modulus_Pa`, …), nothing lists a section's fields a second time.
 
