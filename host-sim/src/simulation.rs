@@ -47,14 +47,18 @@ pub enum Load {
 }
 
 /// One constant moving force.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct MovingLoad {
     /// X at t = 0 (m).
+    #[serde(rename = "x0_m")]
     pub x0: f64,
     /// Force (N, positive downward).
+    #[serde(rename = "force_N")]
     pub force: f64,
     /// Offset of its point from the beam axis, Y and Z (m).
+    #[serde(rename = "ey_m")]
     pub ey: f64,
+    #[serde(rename = "ez_m")]
     pub ez: f64,
 }
 

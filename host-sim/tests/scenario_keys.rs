@@ -5,8 +5,9 @@
 //! file, loads, and runs.
 //!
 //! The key lists come from the code, not from this file: every section struct has
-//! `deny_unknown_fields`, so a section holding the key `zz_unknown` is refused with serde's
-//! "unknown field `zz_unknown`, expected one of `a`, `b`, …". A section tagged by `kind` is
+//! `deny_unknown_fields` (`[bridge]` and `[bridge.pier]`, read by `scenario::WithSection`,
+//! refuse a key the same way), so a section holding the key `zz_unknown` is refused with
+//! serde's "unknown field `zz_unknown`, expected one of `a`, `b`, …". A section tagged by `kind` is
 //! refused without its tag ("missing field `kind`") and with `kind = "zz_unknown"` lists its
 //! kinds ("unknown variant"); each kind then lists its own keys. A key is a sub-table when
 //! `[section.key]` holding `zz_unknown` is refused the same way.

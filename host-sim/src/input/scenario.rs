@@ -69,11 +69,12 @@ fn default_max_iterations() -> u32 {
     50
 }
 
+/// The keys of a Timoshenko beam section, in their units: the girders' (in `[bridge]`) and the
+/// piers' (in `[bridge.pier]`), each beside its section's own keys ([`WithSection`]).
 #[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
-pub struct BridgeSection {
-    pub spans_m: Vec<f64>,
+pub struct BeamSectionKeys {
     pub youngs_modulus_kN_per_m2: f64,
     pub shear_modulus_kN_per_m2: f64,
     pub area_m2: f64,
@@ -83,6 +84,17 @@ pub struct BridgeSection {
     pub iz_m4: f64,
     pub torsion_constant_m4: f64,
     pub mass_t_per_m: f64,
+}
+
+/// `[bridge]`: the spans and the girders' section (docs/model.md §9).
+pub type BridgeSection = WithSection<BridgeKeys>;
+
+/// `[bridge]`'s own keys; the girders' section is its [`BeamSectionKeys`].
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct BridgeKeys {
+    pub spans_m: Vec<f64>,
     pub polar_mass_t_m2_per_m: Option<f64>,
     /// `spans` (independent simply supported spans on rigid supports, the default) or
     /// `viaduct` (the girders above on bearings, piers and footings: docs/viaduct.md; needs
@@ -135,26 +147,109 @@ pub struct BearingsSection {
 
 /// `[bridge.pier]`: a vertical Timoshenko column (`iz_m4` bends it laterally, `iy_m4`
 /// longitudinally; `shear_area_y_m2` lateral, `shear_area_z_m2` longitudinal shear).
-///
-/// The section keys repeat [`BridgeSection`]'s on purpose: a shared struct would need
-/// `#[serde(flatten)]`, which serde cannot combine with `deny_unknown_fields`, and refusing a
-/// misspelt key matters more than the repetition.
+pub type PierSection = WithSection<PierKeys>;
+
+/// `[bridge.pier]`'s own keys; the column's section is its [`BeamSectionKeys`].
 #[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
-#[allow(non_snake_case)]
-pub struct PierSection {
+pub struct PierKeys {
     pub height_m: f64,
     pub elements: usize,
     pub cap_mass_t: f64,
-    pub youngs_modulus_kN_per_m2: f64,
-    pub shear_modulus_kN_per_m2: f64,
-    pub area_m2: f64,
-    pub shear_area_y_m2: f64,
-    pub shear_area_z_m2: f64,
-    pub iy_m4: f64,
-    pub iz_m4: f64,
-    pub torsion_constant_m4: f64,
-    pub mass_t_per_m: f64,
+}
+
+/// A section whose table holds its own keys (`T`) and a beam section's
+/// ([`BeamSectionKeys`]), both refusing any other key.
+///
+/// Why by hand: serde's `#[serde(flatten)]` would share the beam keys, but it cannot be
+/// combined with `deny_unknown_fields`, and a flattened key's wrong value loses its name
+/// ("expected f64 in `bridge`"). Here the table is split by the two structs' own key lists,
+/// each half is read by toml (which names the key), and a key neither knows is refused with
+/// serde's words, listing both halves' keys (docs/scenarios.md and
+/// `tests/scenario_keys.rs` read that list).
+#[derive(Serialize, Debug, Clone)]
+pub struct WithSection<T> {
+    #[serde(flatten)]
+    pub own: T,
+    #[serde(flatten)]
+    pub section: BeamSectionKeys,
+}
+
+impl<T> std::ops::Deref for WithSection<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.own
+    }
+}
+
+impl<T> std::ops::DerefMut for WithSection<T> {
+    fn deref_mut(&mut self) -> &mut T {
+        &mut self.own
+    }
+}
+
+impl<'de, T: serde::de::DeserializeOwned> Deserialize<'de> for WithSection<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde::de::Error as _;
+        let mut own = toml::Table::deserialize(d)?;
+        let (own_keys, beam_keys) = (keys_of::<T>(), keys_of::<BeamSectionKeys>());
+        let known = |k: &str| own_keys.contains(&k) || beam_keys.contains(&k);
+        if let Some(k) = own.keys().find(|k| !known(k)) {
+            let all: Vec<String> = own_keys
+                .iter()
+                .chain(beam_keys)
+                .map(|k| format!("`{k}`"))
+                .collect();
+            return Err(D::Error::custom(format!(
+                "unknown field `{k}`, expected one of {}",
+                all.join(", ")
+            )));
+        }
+        let beam: toml::Table = beam_keys
+            .iter()
+            .filter_map(|k| own.remove_entry(*k))
+            .collect();
+        let own = T::deserialize(toml::Value::Table(own));
+        let section = BeamSectionKeys::deserialize(toml::Value::Table(beam));
+        match (own, section) {
+            (Ok(own), Ok(section)) => Ok(WithSection { own, section }),
+            // serde names a wrong value before a missing key; so does this, across the halves.
+            (Err(a), Err(b)) if a.to_string().starts_with("missing field") => {
+                Err(D::Error::custom(b))
+            }
+            (Err(e), _) | (_, Err(e)) => Err(D::Error::custom(e)),
+        }
+    }
+}
+
+/// The keys of struct `T` as serde's derive names them (the list its "expected one of …"
+/// gives): the `fields` its `Deserialize` passes to `deserialize_struct`.
+fn keys_of<T: serde::de::DeserializeOwned>() -> &'static [&'static str] {
+    use serde::de::{value::Error, Error as _, Visitor};
+    struct Fields(&'static [&'static str]);
+    impl<'de> serde::Deserializer<'de> for &mut Fields {
+        type Error = Error;
+        fn deserialize_any<V: Visitor<'de>>(self, _: V) -> std::result::Result<V::Value, Error> {
+            Err(Error::custom("not a struct"))
+        }
+        fn deserialize_struct<V: Visitor<'de>>(
+            self,
+            _: &'static str,
+            fields: &'static [&'static str],
+            _: V,
+        ) -> std::result::Result<V::Value, Error> {
+            self.0 = fields;
+            Err(Error::custom("only the keys were asked for"))
+        }
+        serde::forward_to_deserialize_any! {
+            bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string bytes byte_buf
+            option unit unit_struct newtype_struct seq tuple tuple_struct map enum identifier
+            ignored_any
+        }
+    }
+    let mut f = Fields(&[]);
+    let _ = T::deserialize(&mut f);
+    f.0
 }
 
 /// `[bridge.footing]`: a rigid rectangular concrete footing under each pier.
@@ -519,8 +614,25 @@ pub fn parse(text: &str, name: &str, sets: &[String]) -> Result<Scenario> {
     })
 }
 
+/// toml's error on one line, with the key it names written whole: a section read by hand
+/// ([`WithSection`], [`VehicleSection`]) makes toml name its key in parts, innermost first
+/// ("… in `iy_m4` in `pier` in `bridge`"), and this joins them as the rest of the reader
+/// names a key ("… in `bridge.pier.iy_m4`").
 fn one_line(s: &str) -> String {
-    s.split_whitespace().collect::<Vec<_>>().join(" ")
+    let s = s.split_whitespace().collect::<Vec<_>>().join(" ");
+    let mut parts: Vec<&str> = s.split(" in `").collect();
+    let is_key =
+        |p: &&&str| p.len() > 1 && p.ends_with('`') && !p[..p.len() - 1].contains(['`', ' ']);
+    let keys = parts.iter().skip(1).rev().take_while(is_key).count();
+    if keys < 2 {
+        return s;
+    }
+    let path: Vec<&str> = parts
+        .drain(parts.len() - keys..)
+        .rev()
+        .map(|p| &p[..p.len() - 1])
+        .collect();
+    format!("{} in `{}`", parts.join(" in `"), path.join("."))
 }
 
 /// `section.key` of a `--set` key: a short key's full name, any other key as written.
@@ -666,7 +778,77 @@ mod tests {
             let e = parse(&text.replace(line, bad), name, &[])
                 .unwrap_err()
                 .to_string();
-            assert!(e.contains(&format!("`{key}`")), "{name}: {e}");
+            let section = if text.contains("[train]") {
+                "train"
+            } else {
+                "vehicle"
+            };
+            assert!(e.contains(&format!("`{section}.{key}`")), "{name}: {e}");
         }
+    }
+
+    /// The beam section's keys, read beside `[bridge]`'s and `[bridge.pier]`'s own
+    /// ([`WithSection`]): a wrong value and an unknown key are named whole, in a file and by
+    /// `--set`, and the unknown key's error lists every key of its table.
+    #[test]
+    fn a_beam_section_key_is_named_whole() {
+        let p5 = BUNDLED.iter().find(|(n, _)| *n == "paper-5").unwrap().1;
+        for (text, sets, want) in [
+            (
+                p5.replace("iy_m4 = 9.96", "iy_m4 = \"x\""),
+                vec![],
+                "expected f64 in `bridge.iy_m4`",
+            ),
+            (
+                p5.to_string(),
+                vec!["bridge.pier.iz_m4=true"],
+                "expected f64 in `bridge.pier.iz_m4`",
+            ),
+            (
+                p5.to_string(),
+                vec!["bridge.pier.height_m=[1]"],
+                "expected f64 in `bridge.pier.height_m`",
+            ),
+            (
+                p5.to_string(),
+                vec!["bridge.spans_m=3"],
+                "in `bridge.spans_m`",
+            ),
+            (
+                p5.to_string(),
+                vec!["bridge.damping.ratio=\"a\""],
+                "in `bridge.damping.ratio`",
+            ),
+            (
+                p5.to_string(),
+                vec!["bridge.iy=1"],
+                "unknown field `iy`, expected one of `spans_m`",
+            ),
+            (
+                p5.to_string(),
+                vec!["bridge.pier.iy=1"],
+                "unknown field `iy`, expected one of `height_m`",
+            ),
+        ] {
+            let sets: Vec<String> = sets.into_iter().map(String::from).collect();
+            let e = parse(&text, "paper-5", &sets).unwrap_err().to_string();
+            assert!(e.contains(want) && !e.contains('\n'), "{sets:?}: {e}");
+        }
+        for (set, section, has, not) in [
+            ("bridge.zz=1", "bridge", "spans_m", "height_m"),
+            ("bridge.pier.zz=1", "bridge.pier", "height_m", "spans_m"),
+        ] {
+            let e = parse(p5, "paper-5", &[set.into()]).unwrap_err().to_string();
+            assert!(e.ends_with(&format!("in `{section}`")), "{e}");
+            for key in [has, "youngs_modulus_kN_per_m2", "mass_t_per_m"] {
+                assert!(e.contains(&format!("`{key}`")), "{key}: {e}");
+            }
+            assert!(!e.contains(&format!("`{not}`")), "{not}: {e}");
+        }
+        // A key left out is named; the beam's keys are as required as the section's own.
+        let e = parse(&p5.replace("iz_m4 = 62.1", ""), "paper-5", &[])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("missing field `iz_m4`"), "{e}");
     }
 }

@@ -11,27 +11,37 @@
 //! axes. SI units throughout.
 
 /// Properties of a straight prismatic beam, SI units.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct BeamSection {
     /// Young's modulus E (Pa).
+    #[serde(rename = "youngs_modulus_Pa")]
     pub youngs_modulus: f64,
     /// Shear modulus G (Pa).
+    #[serde(rename = "shear_modulus_Pa")]
     pub shear_modulus: f64,
     /// Cross-section area A (m²).
+    #[serde(rename = "area_m2")]
     pub area: f64,
     /// Shear area for shear in Y (m²).
+    #[serde(rename = "shear_area_y_m2")]
     pub shear_area_y: f64,
     /// Shear area for shear in Z (m²).
+    #[serde(rename = "shear_area_z_m2")]
     pub shear_area_z: f64,
     /// Second moment about Y, Iy (m⁴): bending in the X–Z plane (vertical).
+    #[serde(rename = "iy_m4")]
     pub iy: f64,
     /// Second moment about Z, Iz (m⁴): bending in the X–Y plane (lateral).
+    #[serde(rename = "iz_m4")]
     pub iz: f64,
     /// Torsion constant J (m⁴).
+    #[serde(rename = "torsion_constant_m4")]
     pub torsion_constant: f64,
     /// Mass per unit length m (kg/m).
+    #[serde(rename = "mass_kg_per_m")]
     pub mass_per_length: f64,
     /// Torsional mass moment of inertia per unit length (kg·m). `None`: ρ·(Iy + Iz).
+    #[serde(rename = "polar_mass_kg_m2_per_m")]
     pub polar_mass: Option<f64>,
 }
 
@@ -66,10 +76,12 @@ impl BeamSection {
 
 /// A line of simply supported spans along X starting at x = 0. Outside `[0, total length]`
 /// the guideway is rigid (docs/model.md §9).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Bridge {
+    #[serde(flatten)]
     pub section: BeamSection,
     /// Span lengths (m), consecutive, each simply supported at both ends.
+    #[serde(rename = "spans_m")]
     pub spans: Vec<f64>,
 }
 

@@ -61,29 +61,42 @@ pub struct Contact {
 }
 
 /// Parameters of the Fig. 1 vehicle (SI), defaults from docs/model.md §9.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Fig1 {
+    #[serde(rename = "body_mass_kg")]
     pub body_mass: f64,
     /// Body inertias about the CoM, X, Y, Z (kg·m²).
+    #[serde(rename = "jx_kg_m2")]
     pub jx: f64,
+    #[serde(rename = "jy_kg_m2")]
     pub jy: f64,
+    #[serde(rename = "jz_kg_m2")]
     pub jz: f64,
     /// Body–wheel spring and damper, Y and Z.
+    #[serde(rename = "spring_N_per_m")]
     pub k: f64,
+    #[serde(rename = "damper_N_s_per_m")]
     pub c: f64,
     /// Half the wheel spacing along X (m): wheels at ±this from the body centre.
+    #[serde(rename = "half_length_m")]
     pub half_length: f64,
     /// Half the wheel spacing along Y (m).
+    #[serde(rename = "half_width_m")]
     pub half_width: f64,
     /// Y of the vehicle centre from the beam centre (m).
+    #[serde(rename = "offset_y_m")]
     pub offset_y: f64,
     /// Height of the target line above the beam centroid (m).
+    #[serde(rename = "target_height_m")]
     pub target_height: f64,
     /// Height of the body CoM above the target line (m).
+    #[serde(rename = "body_height_m")]
     pub body_height: f64,
     /// Mass of each wheel node (kg); 0 allowed (damping keeps the system regular).
+    #[serde(rename = "wheel_mass_kg")]
     pub wheel_mass: f64,
     /// X of the body CoM ahead of the middle of the wheelbase (m); 0 for the paper's car.
+    #[serde(rename = "com_ahead_m")]
     pub com_ahead: f64,
 }
 
@@ -110,16 +123,21 @@ impl Default for Fig1 {
 /// A levitation unit (`[vehicle] kind = "unit"`, docs/levitation.md): one magnet of
 /// `magnet_mass` carrying a body of `body_mass` through a vertical spring `k` and damper `c`,
 /// at `position` along the guideway at t = 0. It has no guidance magnets (no lateral DOF).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Unit {
     /// The magnet (kg), > 0.
+    #[serde(rename = "magnet_mass_kg")]
     pub magnet_mass: f64,
     /// The body (kg), 0 for none.
+    #[serde(rename = "body_mass_kg")]
     pub body_mass: f64,
     /// Magnet–body spring (N/m) and damper (N·s/m).
+    #[serde(rename = "spring_N_per_m")]
     pub k: f64,
+    #[serde(rename = "damper_N_s_per_m")]
     pub c: f64,
     /// X of the magnet at t = 0 (m).
+    #[serde(rename = "position_m")]
     pub position: f64,
 }
 

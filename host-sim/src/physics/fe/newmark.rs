@@ -36,11 +36,13 @@ fn time_step_error(dt: f64) -> Error {
 }
 
 /// Rayleigh damping C = α M + β K.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Rayleigh {
     /// Mass-proportional coefficient α (1/s).
+    #[serde(rename = "alpha_per_s")]
     pub alpha: f64,
     /// Stiffness-proportional coefficient β (s).
+    #[serde(rename = "beta_s")]
     pub beta: f64,
 }
 

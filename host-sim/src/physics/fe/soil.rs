@@ -33,16 +33,19 @@
 use crate::Error;
 
 /// Homogeneous half-space.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Soil {
     /// Shear-wave velocity V_s (m/s).
+    #[serde(rename = "shear_wave_velocity_m_per_s")]
     pub shear_wave_velocity: f64,
     /// Density ρ (kg/m³).
+    #[serde(rename = "density_kg_per_m3")]
     pub density: f64,
     /// Poisson's ratio ν.
     pub poisson: f64,
     /// Hysteretic damping ratio ξ (μ* = μ(1 + 2iξ)); 0 when not given. Used by the ground's
     /// Green's function only (module docs).
+    #[serde(rename = "damping_ratio")]
     pub damping: f64,
 }
 

@@ -37,17 +37,22 @@ use maglev_core::gap::{dof, locate, ElementVector, WheelShape, DOFS_PER_NODE};
 use nalgebra::DVector;
 
 /// The bearings at each girder end.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct BearingSpec {
     /// Vertical stiffness of one bearing (N/m); two bearings per girder end.
+    #[serde(rename = "vertical_N_per_m")]
     pub vertical: f64,
     /// Lateral spacing of the two bearings of an end (m).
+    #[serde(rename = "spacing_m")]
     pub spacing: f64,
     /// Lateral stiffness of a girder end (N/m): guided or fixed bearings.
+    #[serde(rename = "lateral_N_per_m")]
     pub lateral: f64,
     /// Longitudinal stiffness at the fixed (left) end (N/m); the right end slides.
+    #[serde(rename = "longitudinal_N_per_m")]
     pub longitudinal: f64,
     /// Height of the girder centroid above the bearing point (m).
+    #[serde(rename = "drop_m")]
     pub drop: f64,
 }
 
@@ -64,24 +69,31 @@ impl BearingSpec {
 /// A pier: a vertical Timoshenko column. In its section, `iz` bends it laterally (Y–Z
 /// plane), `iy` longitudinally (X–Z plane), `shear_area_y` / `shear_area_z` are the
 /// lateral / longitudinal shear areas, `torsion_constant` its twist about Z.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PierSpec {
+    #[serde(flatten)]
     pub section: BeamSection,
     /// Base to bearing level (m).
+    #[serde(rename = "height_m")]
     pub height: f64,
     /// Elements along the height.
     pub elements: usize,
     /// Pier cap (head) mass lumped at the top (kg).
+    #[serde(rename = "cap_mass_kg")]
     pub cap_mass: f64,
 }
 
 /// A foundation: springs and dashpots to the ground at the pier base, and the footing's
 /// lumped mass and rotary inertias (about X, Y, Z through the base node).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct FoundationSpec {
+    #[serde(rename = "stiffness_N_per_m_or_N_m_per_rad")]
     pub stiffness: [f64; 6],
+    #[serde(rename = "damping_N_s_per_m_or_N_m_s_per_rad")]
     pub damping: [f64; 6],
+    #[serde(rename = "mass_kg")]
     pub mass: f64,
+    #[serde(rename = "rotary_inertia_kg_m2")]
     pub rotary_inertia: [f64; 3],
 }
 
@@ -112,11 +124,12 @@ impl FoundationSpec {
 }
 
 /// Everything that defines a viaduct (see the module docs for the layout).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct ViaductSpec {
     /// Number of spans (n ≥ 1; n + 1 piers).
     pub spans: usize,
     /// Span length L (m).
+    #[serde(rename = "span_length_m")]
     pub span_length: f64,
     /// Girder section (beam along X).
     pub girder: BeamSection,
