@@ -37,7 +37,10 @@ impl AnyGuideway {
     pub fn new(case: &Case) -> Result<Self> {
         let dt = case.dt;
         Ok(match (case.model, &case.viaduct) {
-            (Model::Fe, Some(spec)) => AnyGuideway::Viaduct(Viaduct::new(spec, dt)?),
+            (Model::Fe, Some(spec)) => AnyGuideway::Viaduct(match &case.support {
+                Some(motion) => Viaduct::with_support_motion(spec, dt, motion.clone())?,
+                None => Viaduct::new(spec, dt)?,
+            }),
             (Model::Modal, Some(_)) => {
                 return Err(Error::invalid(
                     "run.model",

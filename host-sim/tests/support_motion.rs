@@ -466,3 +466,79 @@ fn a_synthetic_record_is_the_accelerogram_commands_record() {
     let m = s.to_motion(2, 30.0, |_| unreachable!()).unwrap();
     assert_eq!(m.acceleration(1, 1.0), m.acceleration(0, 1.0));
 }
+
+/// `[[support.settlement]]` in a scenario reaches the viaduct of `maglev run`: over three
+/// 30 m spans with pier 2 settled 10 mm, the run starts on the settled shape — pier 2's base
+/// 10 mm down and span 1's girder tilted rigidly through half of it at midspan (a 1 N load
+/// at the start of span 1 adds under 1e-9 m) — and a rigid guideway refuses the section naming it
+/// (support motion drives an FE viaduct only).
+#[test]
+fn a_settled_pier_from_a_scenario_reaches_the_run() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/paper-5.toml"
+    ))
+    .unwrap();
+    let text = text
+        .replace(
+            "[train]\nkind = \"maglev\"\ncars = 12\n",
+            "[train]\nkind = \"forces\"\nloads_kN = [0.001]\noffsets_m = [0.0]\n",
+        )
+        .replace(
+            "probes = [\"car4.body.az\", \"pier20.base.az\", \"span20.midspan.z\", \"wheel1.z\", \"wheel1.force_z\"]",
+            "probes = [\"pier2.base.z\", \"span1.midspan.z\", \"span3.midspan.z\"]",
+        );
+    let spans_35 = format!("spans_m = [{}]", vec!["30.0"; 35].join(", "));
+    assert!(text.contains(&spans_35) && text.contains("pier2.base.z"));
+    let text = text.replace(&spans_35, "spans_m = [30.0, 30.0, 30.0]")
+        + "\n[[support.settlement]]\npier = 2\ndz_m = -0.01\n";
+    let dir = std::env::temp_dir().join(format!("maglev-settled-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scenario = dir.join("settled.toml");
+    std::fs::write(&scenario, &text).unwrap();
+    let exe = env!("CARGO_BIN_EXE_maglev");
+    let out = std::process::Command::new(exe)
+        .args(["run", scenario.to_str().unwrap(), "--set", "t_end=0.01"])
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.join("out/response.csv")).unwrap();
+    let row: Vec<f64> = csv
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    // t, pier2.base.z, span1.midspan.z, span3.midspan.z
+    assert!((row[1] + 0.01).abs() < 1e-11, "pier 2 base {}", row[1]);
+    assert!((row[2] + 0.005).abs() < 1e-9, "span 1 midspan {}", row[2]);
+    assert!(row[3].abs() < 1e-9, "span 3 midspan {}", row[3]);
+    let summary = std::fs::read_to_string(dir.join("out/summary.json")).unwrap();
+    assert!(
+        summary.contains("\"settlement\""),
+        "summary.json records [support]"
+    );
+
+    let out = std::process::Command::new(exe)
+        .args([
+            "run",
+            scenario.to_str().unwrap(),
+            "--set",
+            "model=rigid",
+            "--out",
+        ])
+        .arg(dir.join("out2"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("support"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -9,7 +9,7 @@ use maglev_core::{Interpolation, LawName, Scheme};
 use serde::{Deserialize, Serialize};
 
 /// Bundled scenarios: (name, TOML text).
-pub const BUNDLED: [(&str, &str); 5] = [
+pub const BUNDLED: [(&str, &str); 6] = [
     ("paper-4.2", include_str!("../../scenarios/paper-4.2.toml")),
     ("paper-5", include_str!("../../scenarios/paper-5.toml")),
     (
@@ -21,6 +21,10 @@ pub const BUNDLED: [(&str, &str); 5] = [
         include_str!("../../scenarios/moving-force.toml"),
     ),
     ("unit", include_str!("../../scenarios/unit.toml")),
+    (
+        "paper-5-quake",
+        include_str!("../../scenarios/paper-5-quake.toml"),
+    ),
 ];
 
 /// Short `--set` keys and the scenario key each stands for.
@@ -543,6 +547,8 @@ pub struct Scenario {
     pub soil: Option<SoilSection>,
     /// Ground receivers (`[ground]`).
     pub ground: Option<GroundSection>,
+    /// Ground motion and settlement at the viaduct's piers (`[support]`, docs/seismic.md).
+    pub support: Option<crate::input::support::SupportSection>,
 }
 
 /// `[output]`: what a run records.

@@ -2,8 +2,8 @@
 //! conversion into the [`SupportMotion`] the viaduct takes (docs/seismic.md "Support motion").
 //!
 //! Why a file of its own: the section is data for one model (the viaduct on its footings);
-//! keeping its keys, limits and conversion together leaves `scenario.rs` and `case.rs` one
-//! field each to add (not wired yet: nothing reads `[support]` from a scenario file so far).
+//! its keys, limits and conversion stay together, and `Scenario`/`Case` hold it as one field
+//! each (`Case::new` converts it through `input/case/viaduct.rs`).
 
 use crate::physics::seismic::accelerogram::{synthesize, Envelope, GroundFilter, Spec, G};
 use crate::physics::seismic::support::{GroundRecord, SupportMotion};

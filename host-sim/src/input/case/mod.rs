@@ -43,6 +43,7 @@ use crate::physics::fe::newmark::Rayleigh;
 use crate::physics::fe::soil::Soil;
 use crate::physics::fe::viaduct::ViaductSpec;
 use crate::physics::guideway::Bridge;
+use crate::physics::seismic::support::SupportMotion;
 use crate::physics::vehicle::{Train, VehicleModel};
 use crate::probes::Probes;
 use crate::{Error, Result};
@@ -111,6 +112,10 @@ pub struct Case {
     /// Ground receivers `[x, y]` (m) whose vertical velocity the run writes (`[ground]`).
     #[serde(rename = "ground_receivers_m", skip_serializing_if = "Option::is_none")]
     pub ground: Option<Vec<[f64; 2]>>,
+    /// The motion of the viaduct's supports (`[support]`): recorded as its section
+    /// ([`Case::record`]).
+    #[serde(skip)]
+    pub support: Option<SupportMotion>,
 }
 
 impl Case {
@@ -157,6 +162,16 @@ impl Case {
                 return Err(Error::invalid(
                     "ground",
                     "receivers need a viaduct (bridge.kind = \"viaduct\") and its [soil]",
+                ))
+            }
+        };
+        let support = match (&sc.support, &viaduct) {
+            (None, _) => None,
+            (Some(s), Some(v)) if sc.run.model == Model::Fe => Some(viaduct::support(s, v)?),
+            (Some(_), _) => {
+                return Err(Error::invalid(
+                    "support",
+                    "drives the footings of an FE viaduct (run.model = \"fe\", bridge.kind = \"viaduct\"); spans on rigid supports take no support motion",
                 ))
             }
         };
@@ -236,6 +251,7 @@ impl Case {
             probes,
             soil,
             ground,
+            support,
             scenario: sc,
         })
     }

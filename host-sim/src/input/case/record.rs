@@ -14,6 +14,9 @@ impl Case {
         let mut record = serde_json::to_value(self).unwrap_or_else(unserialisable);
         record["controller"] =
             serde_json::to_value(&self.scenario.controller).unwrap_or_else(unserialisable);
+        if let Some(s) = &self.scenario.support {
+            record["support"] = serde_json::to_value(s).unwrap_or_else(unserialisable);
+        }
         record
     }
 }

@@ -7,9 +7,11 @@
 use super::checks::{bounded, finite, non_negative, positive, within};
 use crate::ground::green::{MAX_DAMPING, MIN_DAMPING};
 use crate::input::scenario::{BridgeKind, BridgeSection, GroundSection, SoilSection};
+use crate::input::support::SupportSection;
 use crate::physics::fe::soil::Soil;
 use crate::physics::fe::viaduct::{BearingSpec, FoundationSpec, PierSpec, ViaductSpec};
 use crate::physics::guideway::Bridge;
+use crate::physics::seismic::support::SupportMotion;
 use crate::{Error, Result};
 
 /// The most elements a pier may have. The viaduct's set-up grows faster than linearly in
@@ -144,6 +146,14 @@ fn footing_size(key: &str, v: f64) -> Result<f64> {
 }
 
 /// `[soil]` in SI, checked: one soil for the footings and the ground.
+/// The ground motion and settlements of `[support]` at the viaduct's `spans + 1` piers, a span
+/// length apart; record files are read relative to the working directory.
+pub(super) fn support(s: &SupportSection, v: &ViaductSpec) -> Result<SupportMotion> {
+    s.to_motion(v.spans + 1, v.span_length, |path| {
+        crate::input::read_text(std::path::Path::new(path))
+    })
+}
+
 pub(super) fn soil(s: &SoilSection) -> Result<Soil> {
     let poisson = s.poisson;
     if !(0.0..0.5).contains(&poisson) {
