@@ -380,3 +380,48 @@ fn too_many_jobs_are_refused() {
     assert!(e.contains("--jobs") && e.contains("256"), "{e}");
     assert!(!out.exists());
 }
+
+/// A run outside a running-safety limit without a collision is `unsafe`, its error naming
+/// the failed figures as summary.json's `safety` of the same `maglev run` names them
+/// (paper-5's wheel/rail train lifts a wheel at 0.212 s, docs/safety.md).
+#[test]
+fn a_run_outside_its_safety_limits_is_unsafe_with_the_failed_figures() {
+    let d = scratch("unsafe");
+    let sp = spec(
+        &d,
+        "scenario = \"paper-5\"\n[set]\ntrain = \"wheel-rail\"\nt_end = 0.25\n\
+         [axes]\nspeed = [83.33]\n[reduce]\nquantities = [\"peak:car4.body.az\"]\n",
+    );
+    let out = d.join("sweep");
+    ok(&maglev(&["sweep", s(&sp), "--out", s(&out)]));
+    let text = read(&out.join("results.csv"));
+    let row: Vec<&str> = text.lines().nth(1).unwrap().split(',').collect();
+    assert_eq!(row[2], "unsafe", "{text}");
+    let run = d.join("run");
+    ok(&maglev(&[
+        "run",
+        "paper-5",
+        "--set",
+        "train=wheel-rail",
+        "--set",
+        "t_end=0.25",
+        "--set",
+        "speed=83.33",
+        "--out",
+        s(&run),
+    ]));
+    let summary: serde_json::Value =
+        serde_json::from_str(&read(&run.join("summary.json"))).unwrap();
+    let safety = &summary["safety"];
+    assert_eq!(safety["pass"], false);
+    let mut failed = Vec::new();
+    for (k, v) in safety["wheel_rail"].as_object().unwrap() {
+        if v["pass"] == false {
+            failed.push(format!("wheel_rail.{k}"));
+        }
+    }
+    assert!(!failed.is_empty());
+    for f in &failed {
+        assert!(row[3].contains(f.as_str()), "{f} not in {}", row[3]);
+    }
+}

@@ -9,6 +9,8 @@ use super::reduce::Reducer;
 use super::runs::{self, Run, Shard};
 use super::spec::Spec;
 use super::store::{Header, Record, Status, Store};
+use crate::output::safety::{Safety, SafetyReport};
+use crate::probes::Tee;
 use crate::{Error, Result};
 use rayon::prelude::*;
 use std::path::Path;
@@ -73,31 +75,41 @@ pub fn run_one(spec: &Spec, run: &Run) -> Record {
     let start = Instant::now();
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| -> Result<_> {
         let (case, mut reducer) = case(spec, Some(run))?;
+        let mut safety = Safety::for_case(&case);
+        let mut both = Tee(&mut reducer, &mut safety);
         let outcome =
-            crate::setup::simulate(&case, crate::setup::Controllers::Core, &mut reducer, |_| {})?
+            crate::setup::simulate(&case, crate::setup::Controllers::Core, &mut both, |_| {})?
                 .outcome;
         let values = reducer.finish()?;
-        Ok((outcome.steps, outcome.collision_steps, values))
+        let failing = failed_figures(safety.report());
+        Ok((outcome.steps, outcome.collision_steps, values, failing))
     }));
     let wall_s = start.elapsed().as_secs_f64();
     let one_line = |s: String| s.split_whitespace().collect::<Vec<_>>().join(" ");
     match result {
-        Ok(Ok((steps, collisions, values))) => Record {
-            id: run.id.clone(),
-            status: if collisions > 0 {
-                Status::Collided
+        Ok(Ok((steps, collisions, values, failing))) => {
+            let (status, error) = if collisions > 0 {
+                (
+                    Status::Collided,
+                    format!("{collisions} step(s) with a collision (a gap ≤ 0)"),
+                )
+            } else if !failing.is_empty() {
+                (
+                    Status::Unsafe,
+                    format!("outside its safety limits: {}", failing.join(" ")),
+                )
             } else {
-                Status::Ok
-            },
-            values,
-            error: if collisions > 0 {
-                format!("{collisions} step(s) with a collision (a gap ≤ 0)")
-            } else {
-                String::new()
-            },
-            steps,
-            wall_s,
-        },
+                (Status::Ok, String::new())
+            };
+            Record {
+                id: run.id.clone(),
+                status,
+                values,
+                error,
+                steps,
+                wall_s,
+            }
+        }
         Ok(Err(e)) => failed(run, one_line(e.to_string()), wall_s),
         Err(panic) => {
             let msg = panic
@@ -108,6 +120,28 @@ pub fn run_one(spec: &Spec, run: &Run) -> Record {
             failed(run, one_line(format!("the run panicked: {msg}")), wall_s)
         }
     }
+}
+
+/// The running-safety figures a run fails (`maglev.levitation_gap_min`, …; docs/safety.md),
+/// by their summary.json names; empty when it passes or has no figures (moving forces).
+fn failed_figures(report: Option<SafetyReport>) -> Vec<String> {
+    fn walk(v: &serde_json::Value, prefix: &str, out: &mut Vec<String>) {
+        let serde_json::Value::Object(map) = v else {
+            return;
+        };
+        for (k, x) in map {
+            if x.get("pass") == Some(&serde_json::Value::Bool(false)) {
+                out.push(format!("{prefix}{k}"));
+            } else if x.is_object() {
+                walk(x, &format!("{prefix}{k}."), out);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    if let Some(r) = report.filter(|r| !r.pass) {
+        walk(&serde_json::to_value(&r).unwrap_or_default(), "", &mut out);
+    }
+    out
 }
 
 fn failed(run: &Run, error: String, wall_s: f64) -> Record {

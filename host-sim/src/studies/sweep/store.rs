@@ -80,6 +80,9 @@ pub enum Status {
     /// Ran to its end with some magnet's gap at or below zero in some step (the values are
     /// there, but the histories after the collision are not physical).
     Collided,
+    /// Ran to its end without a collision, outside a running-safety limit of summary.json's
+    /// `safety` (docs/safety.md): the error names the figures that failed.
+    Unsafe,
     /// Could not run (a bad value, a numerical failure): no values, the error says why.
     Failed,
 }
@@ -89,6 +92,7 @@ impl Status {
         match self {
             Status::Ok => "ok",
             Status::Collided => "collided",
+            Status::Unsafe => "unsafe",
             Status::Failed => "failed",
         }
     }
