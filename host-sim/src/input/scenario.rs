@@ -772,7 +772,7 @@ mod tests {
         for (name, text) in BUNDLED {
             let (key, bad) = match name {
                 "paper-4.2" => ("body_mass_t", "body_mass_t = \"x\""),
-                "paper-5" => ("cars", "cars = -3"),
+                "paper-5" | "paper-5-quake" => ("cars", "cars = -3"),
                 "train-forces" => ("loads_kN", "loads_kN = 5"),
                 "unit" => ("magnet_mass_kg", "magnet_mass_kg = true"),
                 _ => ("force_kN", "force_kN = [1]"),
