@@ -63,6 +63,12 @@ pub struct SupportSection {
     pub settlement: Vec<SettlementSection>,
 }
 
+/// The most samples a `[support.synthetic]` record may have: 2²⁰, over an hour at the default
+/// 5 ms and 105 s at the finest 0.1 ms. A case is checked before anything large is allocated
+/// (the record is made while the case resolves); this keeps every buffer of the synthesis
+/// (about 16 B per sample each) in tens of MB.
+pub const MAX_SYNTHETIC_SAMPLES: usize = 1 << 20;
+
 /// `[support.synthetic]`: the seeded accelerogram of `maglev accelerogram`, made at load time
 /// (the same keys as its flags, the same defaults, the same bits).
 #[derive(Deserialize, Serialize, Debug, Clone)]
@@ -136,6 +142,15 @@ impl SyntheticSection {
             vertical_ratio: self.vertical_ratio,
             seed: self.seed,
         };
+        let n = spec.samples(&key)?;
+        if n > MAX_SYNTHETIC_SAMPLES {
+            return Err(Error::invalid(
+                format!("{}/{}", key("duration_s"), key("dt_s")),
+                format!(
+                    "give {n} samples, more than {MAX_SYNTHETIC_SAMPLES} (a scenario's record is made when it loads)"
+                ),
+            ));
+        }
         let a = synthesize(&spec, &key)?;
         let samples = (0..a.x.len()).map(|j| [a.x[j], a.y[j], a.z[j]]).collect();
         GroundRecord::new(a.dt_s, samples)
@@ -283,6 +298,12 @@ mod tests {
         assert!(bad("[synthetic]\npga_g = 0.1\nground = \"clay\"\n")
             .contains("support.synthetic.ground"));
         assert!(bad("record = \"q.csv\"\n[synthetic]\npga_g = 0.1\n").contains("one of"));
+        let long = bad("[synthetic]\npga_g = 0.1\nduration_s = 600.0\ndt_s = 0.0005\n");
+        assert!(
+            long.contains("support.synthetic.duration_s/support.synthetic.dt_s")
+                && long.contains("1200001 samples, more than 1048576"),
+            "{long}"
+        );
     }
 
     /// Bad values are refused naming the key.
