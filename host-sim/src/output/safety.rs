@@ -182,6 +182,32 @@ pub struct SafetyReport {
     pub per_car: Vec<CarAcceleration>,
 }
 
+impl SafetyReport {
+    /// Every figure judged against a limit, by its summary.json name, with its verdict: what
+    /// `pass` is made of, and what a sweep names when a run fails.
+    pub fn judged(&self) -> Vec<(&'static str, bool)> {
+        let mut all = vec![("body_acceleration_peak", &self.body_acceleration_peak)];
+        if let Some(m) = &self.maglev {
+            all.push(("maglev.levitation_gap_min", &m.levitation_gap_min));
+            all.push(("maglev.collision_steps", &m.collision_steps));
+            for (name, f) in [
+                ("maglev.guidance_gap_min", &m.guidance_gap_min),
+                ("maglev.current_peak", &m.current_peak),
+                ("maglev.voltage_peak", &m.voltage_peak),
+            ] {
+                all.extend(f.as_ref().map(|f| (name, f)));
+            }
+        }
+        if let Some(w) = &self.wheel_rail {
+            all.push(("wheel_rail.unloading_max", &w.unloading_max));
+            all.push(("wheel_rail.lift_off_steps", &w.lift_off_steps));
+        }
+        all.into_iter()
+            .filter_map(|(name, f)| f.pass.map(|p| (name, p)))
+            .collect()
+    }
+}
+
 /// The smallest (or largest) value seen and its first time.
 #[derive(Clone, Copy, Debug)]
 struct Extreme {
@@ -463,27 +489,16 @@ impl Safety {
         .limit(None, RMS_SOURCE, le);
         let maglev = (!self.magnets.is_empty()).then(|| self.maglev_figures());
         let wheel_rail = (!self.contacts.is_empty()).then(|| self.wheel_rail_figures());
-        let mut judged = vec![body_acceleration_peak.pass];
-        if let Some(m) = &maglev {
-            judged.extend([m.levitation_gap_min.pass, m.collision_steps.pass]);
-            judged.extend(
-                [&m.guidance_gap_min, &m.current_peak, &m.voltage_peak]
-                    .into_iter()
-                    .flatten()
-                    .map(|f| f.pass),
-            );
-        }
-        if let Some(w) = &wheel_rail {
-            judged.extend([w.unloading_max.pass, w.lift_off_steps.pass]);
-        }
-        Some(SafetyReport {
-            pass: judged.into_iter().flatten().all(|p| p),
+        let mut report = SafetyReport {
+            pass: true,
             body_acceleration_peak,
             body_acceleration_rms,
             maglev,
             wheel_rail,
             per_car,
-        })
+        };
+        report.pass = report.judged().iter().all(|(_, pass)| *pass);
+        Some(report)
     }
 
     fn maglev_figures(&self) -> MaglevFigures {

@@ -122,26 +122,16 @@ pub fn run_one(spec: &Spec, run: &Run) -> Record {
     }
 }
 
-/// The running-safety figures a run fails (`maglev.levitation_gap_min`, …; docs/safety.md),
-/// by their summary.json names; empty when it passes or has no figures (moving forces).
-fn failed_figures(report: Option<SafetyReport>) -> Vec<String> {
-    fn walk(v: &serde_json::Value, prefix: &str, out: &mut Vec<String>) {
-        let serde_json::Value::Object(map) = v else {
-            return;
-        };
-        for (k, x) in map {
-            if x.get("pass") == Some(&serde_json::Value::Bool(false)) {
-                out.push(format!("{prefix}{k}"));
-            } else if x.is_object() {
-                walk(x, &format!("{prefix}{k}."), out);
-            }
-        }
-    }
-    let mut out = Vec::new();
-    if let Some(r) = report.filter(|r| !r.pass) {
-        walk(&serde_json::to_value(&r).unwrap_or_default(), "", &mut out);
-    }
-    out
+/// The running-safety figures a run fails, by their summary.json names (docs/safety.md);
+/// empty when it passes or has no figures (moving forces).
+fn failed_figures(report: Option<SafetyReport>) -> Vec<&'static str> {
+    report.map_or_else(Vec::new, |r| {
+        r.judged()
+            .into_iter()
+            .filter(|(_, pass)| !pass)
+            .map(|(name, _)| name)
+            .collect()
+    })
 }
 
 fn failed(run: &Run, error: String, wall_s: f64) -> Record {
