@@ -1,40 +1,14 @@
-//! The FE guideway's time loop does not allocate: a counting global allocator (this test
-//! binary only) counts the allocations made on this thread by `solve_step`, `motion_at`,
+//! The FE guideway's time loop does not allocate: the counting global allocator of
+//! `counting_alloc` counts the allocations made on this thread by `solve_step`, `motion_at`,
 //! `section_at` and `commit` over a train crossing three spans, serial mode, for the FE spans
-//! and for the coupled viaduct. (The rayon mode
-//! hands work to the pool, whose job queues may allocate; it is not covered.)
+//! and for the coupled viaduct. (The rayon mode hands work to the pool, whose job queues may
+//! allocate; it is not covered.)
 
+mod counting_alloc;
+
+use counting_alloc::count;
 use maglev_host_sim::physics::fe::FeGuideway;
 use maglev_host_sim::physics::guideway::{BeamSection, Bridge, Guideway, PointLoad};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
-struct Counting;
-
-thread_local! {
-    static COUNT: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        COUNT.with(|c| c.set(c.get() + 1));
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        COUNT.with(|c| c.set(c.get() + 1));
-        System.realloc(ptr, layout, new_size)
-    }
-}
-
-#[global_allocator]
-static ALLOCATOR: Counting = Counting;
-
-fn count() -> usize {
-    COUNT.with(|c| c.get())
-}
 
 #[test]
 fn time_loop_does_not_allocate() {

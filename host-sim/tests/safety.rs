@@ -5,42 +5,16 @@
 //! for is recomputed from the file read back, and the coil figures are held against
 //! summary.json's own coil figures (the time loop's tally, a separate path).
 
+mod counting_alloc;
+
+use counting_alloc::count;
 use maglev_host_sim::output::safety::{Safety, SafetyReport, BODY_ACCEL_LIMIT, UNLOADING_LIMIT};
 use maglev_host_sim::physics::guideway::RigidGuideway;
 use maglev_host_sim::physics::vehicle::Node;
 use maglev_host_sim::probes::{Recorder, StepView, Wheels};
 use maglev_host_sim::simulation::Coil;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-struct Counting;
-
-thread_local! {
-    static COUNT: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        COUNT.with(|c| c.set(c.get() + 1));
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        COUNT.with(|c| c.set(c.get() + 1));
-        System.realloc(ptr, layout, new_size)
-    }
-}
-
-#[global_allocator]
-static ALLOCATOR: Counting = Counting;
-
-fn count() -> usize {
-    COUNT.with(|c| c.get())
-}
 
 const H0: f64 = 0.01;
 const DT: f64 = 0.002;
