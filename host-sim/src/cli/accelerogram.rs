@@ -5,50 +5,15 @@
 
 use std::io::Write;
 
-use crate::physics::seismic::accelerogram::{flag, synthesize, Envelope, GroundFilter, Spec, G};
-use crate::{Error, Result};
+use crate::input::support::SyntheticSection;
+use crate::physics::seismic::accelerogram::{flag, synthesize, GroundFilter, Spec};
+use crate::Result;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Peak ground acceleration of each horizontal component, in g.
-    #[arg(long = "pga-g", allow_negative_numbers = true)]
-    pub pga_g: f64,
-    /// Ground class for the filter: firm, medium or soft (Der Kiureghian & Neuenhofer 1992).
-    #[arg(long, default_value = "medium")]
-    pub ground: String,
-    /// Vertical peak over horizontal peak.
-    #[arg(long = "vertical-ratio", default_value_t = 2.0 / 3.0, allow_negative_numbers = true)]
-    pub vertical_ratio: f64,
-    /// Record length, s.
-    #[arg(
-        long = "duration-s",
-        default_value_t = 20.0,
-        allow_negative_numbers = true
-    )]
-    pub duration_s: f64,
-    /// Sample step, s.
-    #[arg(long = "dt-s", default_value_t = 0.005, allow_negative_numbers = true)]
-    pub dt_s: f64,
-    /// Seed of the phases (u64); x, y and z are independent streams of it.
-    #[arg(long, default_value_t = 0)]
-    pub seed: u64,
-    /// Envelope: end of the quadratic rise, s.
-    #[arg(long = "rise-s", default_value_t = 2.0, allow_negative_numbers = true)]
-    pub rise_s: f64,
-    /// Envelope: end of the strong motion, s.
-    #[arg(
-        long = "strong-end-s",
-        default_value_t = 10.0,
-        allow_negative_numbers = true
-    )]
-    pub strong_end_s: f64,
-    /// Envelope: exponential decay rate after the strong motion, 1/s.
-    #[arg(
-        long = "decay-per-s",
-        default_value_t = 0.4,
-        allow_negative_numbers = true
-    )]
-    pub decay_per_s: f64,
+    /// The record's values: the keys of a scenario's `[support.synthetic]`, as flags.
+    #[command(flatten)]
+    pub record: SyntheticSection,
     /// Override the ground class's Kanai–Tajimi frequency ω_g, rad/s.
     #[arg(long = "omega-g", allow_negative_numbers = true)]
     pub omega_g: Option<f64>,
@@ -63,44 +28,24 @@ pub struct Args {
     pub zeta_f: Option<f64>,
 }
 
-/// The ground class by name (any case).
-fn ground(name: &str) -> Result<GroundFilter> {
-    GroundFilter::class(name).ok_or_else(|| {
-        Error::invalid(
-            "--ground",
-            format!("unknown ground class {name:?}: expected firm, medium or soft"),
-        )
-    })
-}
-
-/// The arguments as the model's SI spec (g → m/s² here, at the edge).
+/// The arguments as the model's SI spec: the record's values, then the filter's overrides.
 fn spec(a: &Args) -> Result<Spec> {
-    let base = ground(&a.ground)?;
-    Ok(Spec {
-        filter: GroundFilter::new(
-            a.omega_g.unwrap_or(base.omega_g),
-            a.zeta_g.unwrap_or(base.zeta_g),
-            a.omega_f.unwrap_or(base.omega_f),
-            a.zeta_f.unwrap_or(base.zeta_f),
-        ),
-        envelope: Envelope {
-            rise_s: a.rise_s,
-            strong_end_s: a.strong_end_s,
-            decay_per_s: a.decay_per_s,
-        },
-        duration_s: a.duration_s,
-        dt_s: a.dt_s,
-        pga: a.pga_g * G,
-        vertical_ratio: a.vertical_ratio,
-        seed: a.seed,
-    })
+    let mut spec = a.record.spec(&flag)?;
+    let base = spec.filter;
+    spec.filter = GroundFilter::new(
+        a.omega_g.unwrap_or(base.omega_g),
+        a.zeta_g.unwrap_or(base.zeta_g),
+        a.omega_f.unwrap_or(base.omega_f),
+        a.zeta_f.unwrap_or(base.zeta_f),
+    );
+    Ok(spec)
 }
 
 /// Run the subcommand: the CSV to stdout.
 pub fn run(a: Args) -> Result<()> {
     let r = synthesize(&spec(&a)?, &flag)?;
     // t printed with Δt's decimals, as `irregularity` prints x.
-    let prec = crate::cli::irregularity::decimals(a.dt_s);
+    let prec = crate::cli::irregularity::decimals(a.record.dt_s);
     let mut w = crate::cli::stdout::writer();
     let io = crate::cli::stdout::error;
     writeln!(w, "t_s,ax_m_per_s2,ay_m_per_s2,az_m_per_s2").map_err(io)?;

@@ -5,7 +5,7 @@
 //! its keys, limits and conversion stay together, and `Scenario`/`Case` hold it as one field
 //! each (`Case::new` converts it through `input/case/viaduct.rs`).
 
-use crate::physics::seismic::accelerogram::{synthesize, Envelope, GroundFilter, Spec, G};
+use crate::physics::seismic::accelerogram::{synthesize, Envelope, GroundFilter, KeyName, Spec, G};
 use crate::physics::seismic::support::{GroundRecord, SupportMotion};
 use crate::Error;
 use crate::Result;
@@ -69,28 +69,46 @@ pub struct SupportSection {
 /// (about 16 B per sample each) in tens of MB.
 pub const MAX_SYNTHETIC_SAMPLES: usize = 1 << 20;
 
-/// `[support.synthetic]`: the seeded accelerogram of `maglev accelerogram`, made at load time
-/// (the same keys as its flags, the same defaults, the same bits).
-#[derive(Deserialize, Serialize, Debug, Clone)]
+/// `[support.synthetic]` and the arguments of `maglev accelerogram`: one struct, read by serde
+/// from a scenario and by clap from the command line (`cli/accelerogram.rs` flattens it), so
+/// the keys, their defaults and their conversion to the model's [`Spec`] are written once and
+/// the same values give the same bits either way.
+#[derive(clap::Args, Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct SyntheticSection {
     /// Peak ground acceleration of each horizontal component, in g.
+    #[arg(long, allow_negative_numbers = true)]
     pub pga_g: f64,
-    /// `firm`, `medium` or `soft`.
+    /// Ground class for the filter: firm, medium or soft (Der Kiureghian & Neuenhofer 1992).
+    #[arg(long, default_value_t = default_ground())]
     #[serde(default = "default_ground")]
     pub ground: String,
+    /// Vertical peak over horizontal peak.
+    #[arg(long, default_value_t = default_vertical_ratio(), allow_negative_numbers = true)]
     #[serde(default = "default_vertical_ratio")]
     pub vertical_ratio: f64,
+    /// Record length, s.
+    #[arg(long, default_value_t = default_duration(), allow_negative_numbers = true)]
     #[serde(default = "default_duration")]
     pub duration_s: f64,
+    /// Sample step, s.
+    #[arg(long, default_value_t = default_dt(), allow_negative_numbers = true)]
     #[serde(default = "default_dt")]
     pub dt_s: f64,
+    /// Seed of the phases (u64); x, y and z are independent streams of it.
+    #[arg(long, default_value_t)]
     #[serde(default)]
     pub seed: u64,
+    /// Envelope: end of the quadratic rise, s.
+    #[arg(long, default_value_t = default_rise(), allow_negative_numbers = true)]
     #[serde(default = "default_rise")]
     pub rise_s: f64,
+    /// Envelope: end of the strong motion, s.
+    #[arg(long, default_value_t = default_strong_end(), allow_negative_numbers = true)]
     #[serde(default = "default_strong_end")]
     pub strong_end_s: f64,
+    /// Envelope: exponential decay rate after the strong motion, 1/s.
+    #[arg(long, default_value_t = default_decay(), allow_negative_numbers = true)]
     #[serde(default = "default_decay")]
     pub decay_per_s: f64,
 }
@@ -117,19 +135,19 @@ fn default_decay() -> f64 {
 }
 
 impl SyntheticSection {
-    /// The record, its values checked with their `support.synthetic.*` keys.
-    pub fn record(&self) -> Result<GroundRecord> {
-        let key = |k: &str| format!("support.synthetic.{k}");
+    /// The model's SI spec (g → m/s² here, at the edge; the ground class by name, any case),
+    /// an unknown class named by `name` (`support.synthetic.ground`, `--ground`).
+    pub fn spec(&self, name: KeyName) -> Result<Spec> {
         let filter = GroundFilter::class(&self.ground).ok_or_else(|| {
             Error::invalid(
-                key("ground"),
+                name("ground"),
                 format!(
                     "unknown ground class {:?}: expected firm, medium or soft",
                     self.ground
                 ),
             )
         })?;
-        let spec = Spec {
+        Ok(Spec {
             filter,
             envelope: Envelope {
                 rise_s: self.rise_s,
@@ -141,7 +159,13 @@ impl SyntheticSection {
             pga: self.pga_g * G,
             vertical_ratio: self.vertical_ratio,
             seed: self.seed,
-        };
+        })
+    }
+
+    /// The record, its values checked with their `support.synthetic.*` keys.
+    pub fn record(&self) -> Result<GroundRecord> {
+        let key = |k: &str| format!("support.synthetic.{k}");
+        let spec = self.spec(&key)?;
         let n = spec.samples(&key)?;
         if n > MAX_SYNTHETIC_SAMPLES {
             return Err(Error::invalid(
