@@ -354,3 +354,24 @@ fn subspace_iteration_matches_dense_modes() {
         }
     }
 }
+
+/// A viaduct built in code goes through the beam section's one rule
+/// (`BeamSection::validate`): a constant that is not a positive finite number in the girder
+/// or a pier is refused by its SI name, before anything is assembled.
+#[test]
+fn a_bad_section_constant_is_refused_by_its_si_name() {
+    let mut spec = paper5_viaduct();
+    spec.pier.section.iy = -1.0;
+    let e = Viaduct::new(&spec, 2e-3).err().unwrap().to_string();
+    assert_eq!(
+        e,
+        "bridge.pier.section.iy_m4: must be a positive finite number, got -1"
+    );
+    let mut spec = paper5_viaduct();
+    spec.girder.mass_per_length = f64::NAN;
+    let e = spec.validate().unwrap_err().to_string();
+    assert!(
+        e.starts_with("bridge.girder.mass_kg_per_m: must be a positive"),
+        "{e}"
+    );
+}

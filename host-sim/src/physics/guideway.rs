@@ -74,6 +74,120 @@ impl BeamSection {
     }
 }
 
+/// A constant of a [`BeamSection`] that [`BeamSection::validate`] checks (the optional polar
+/// mass aside), in the struct's order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SectionField {
+    YoungsModulus,
+    ShearModulus,
+    Area,
+    ShearAreaY,
+    ShearAreaZ,
+    Iy,
+    Iz,
+    TorsionConstant,
+    MassPerLength,
+}
+
+impl SectionField {
+    pub const ALL: [Self; 9] = [
+        Self::YoungsModulus,
+        Self::ShearModulus,
+        Self::Area,
+        Self::ShearAreaY,
+        Self::ShearAreaZ,
+        Self::Iy,
+        Self::Iz,
+        Self::TorsionConstant,
+        Self::MassPerLength,
+    ];
+
+    /// The field's key in summary.json (its SI name).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::YoungsModulus => "youngs_modulus_Pa",
+            Self::ShearModulus => "shear_modulus_Pa",
+            Self::Area => "area_m2",
+            Self::ShearAreaY => "shear_area_y_m2",
+            Self::ShearAreaZ => "shear_area_z_m2",
+            Self::Iy => "iy_m4",
+            Self::Iz => "iz_m4",
+            Self::TorsionConstant => "torsion_constant_m4",
+            Self::MassPerLength => "mass_kg_per_m",
+        }
+    }
+}
+
+/// The constant [`BeamSection::validate`] refuses, and its value (SI).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SectionFault {
+    pub field: SectionField,
+    pub value: f64,
+}
+
+impl SectionFault {
+    /// The one-line error under the caller's name for the field, `key`, showing the value as
+    /// the caller was given it, `given` (a scenario's kN/m², t/m).
+    pub fn error(&self, key: impl Into<String>, given: f64) -> crate::Error {
+        crate::Error::invalid(
+            key,
+            format!(
+                "must be a positive finite number, got {}",
+                crate::error::shown(given)
+            ),
+        )
+    }
+}
+
+impl BeamSection {
+    /// A section from its constants in SI, `value(field)` each, without a polar mass.
+    pub fn from_fields(value: impl Fn(SectionField) -> f64) -> Self {
+        use SectionField::*;
+        BeamSection {
+            youngs_modulus: value(YoungsModulus),
+            shear_modulus: value(ShearModulus),
+            area: value(Area),
+            shear_area_y: value(ShearAreaY),
+            shear_area_z: value(ShearAreaZ),
+            iy: value(Iy),
+            iz: value(Iz),
+            torsion_constant: value(TorsionConstant),
+            mass_per_length: value(MassPerLength),
+            polar_mass: None,
+        }
+    }
+
+    /// The constant `field` (SI).
+    pub fn get(&self, field: SectionField) -> f64 {
+        match field {
+            SectionField::YoungsModulus => self.youngs_modulus,
+            SectionField::ShearModulus => self.shear_modulus,
+            SectionField::Area => self.area,
+            SectionField::ShearAreaY => self.shear_area_y,
+            SectionField::ShearAreaZ => self.shear_area_z,
+            SectionField::Iy => self.iy,
+            SectionField::Iz => self.iz,
+            SectionField::TorsionConstant => self.torsion_constant,
+            SectionField::MassPerLength => self.mass_per_length,
+        }
+    }
+
+    /// The rule of a beam section, the one place it is written (a scenario's `[bridge]` and
+    /// `[bridge.pier]` and [`crate::physics::fe::viaduct::ViaductSpec::validate`] call it):
+    /// every constant a positive finite number, else the stiffness or mass matrix of its
+    /// elements is singular or meaningless. `Err` is the first field (in
+    /// [`SectionField::ALL`]'s order) that is not; each caller names it its own way.
+    pub fn validate(&self) -> Result<(), SectionFault> {
+        for field in SectionField::ALL {
+            let value = self.get(field);
+            if !(value.is_finite() && value > 0.0) {
+                return Err(SectionFault { field, value });
+            }
+        }
+        Ok(())
+    }
+}
+
 /// A line of simply supported spans along X starting at x = 0. Outside `[0, total length]`
 /// the guideway is rigid (docs/model.md §9).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -187,4 +301,37 @@ impl Guideway for RigidGuideway {
         SectionMotion::default()
     }
     fn commit(&mut self) {}
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each field's name is the key summary.json gives it (the serde renames above), and its
+    /// constant is the one stored there.
+    #[test]
+    fn section_fields_are_the_summary_keys() {
+        let s = BeamSection::paper_4_2();
+        let json = serde_json::to_value(&s).unwrap();
+        for f in SectionField::ALL {
+            assert_eq!(json[f.name()].as_f64(), Some(s.get(f)), "{f:?}");
+        }
+        assert_eq!(BeamSection::from_fields(|f| s.get(f)), s);
+    }
+
+    /// Every constant is held to the rule: zero, a negative, NaN or infinity in any one field
+    /// is refused naming that field; the §4.2 section passes.
+    #[test]
+    fn validate_refuses_each_constant_that_is_not_positive_and_finite() {
+        let s = BeamSection::paper_4_2();
+        assert_eq!(s.validate(), Ok(()));
+        for bad in SectionField::ALL {
+            for v in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+                let t = BeamSection::from_fields(|f| if f == bad { v } else { s.get(f) });
+                let fault = t.validate().unwrap_err();
+                assert_eq!(fault.field, bad);
+                assert!(fault.value.is_nan() == v.is_nan() && (v.is_nan() || fault.value == v));
+            }
+        }
+    }
 }

@@ -5,7 +5,7 @@
 use super::checks::{non_negative, positive, within};
 use crate::input::scenario::{BeamSectionKeys, BridgeSection, DampingSection};
 use crate::physics::fe::newmark::Rayleigh;
-use crate::physics::guideway::{BeamSection, Bridge};
+use crate::physics::guideway::{BeamSection, Bridge, SectionField};
 use crate::{Error, Result};
 
 /// The largest estimated condition number of an FE span's Newmark matrix
@@ -17,65 +17,93 @@ pub const MAX_CONDITION: f64 = 1e10;
 pub const MAX_FE_DOFS: f64 = 1e7;
 
 impl BeamSectionKeys {
-    /// The section in SI, every key named under `prefix` (`bridge`, `bridge.pier`) and
-    /// checked for its sign, then for its plausible range ([`within`]) in its own unit: a
-    /// value that passes the sign check but leaves the element's stiffness singular to f64 or
-    /// the Newmark matrix without digits is refused by its key. `polar_mass` is `None` (the
-    /// girders' own key sets it).
+    /// Field `f`'s key, its value as given (in the key's unit) and the factor from that unit
+    /// to SI: the one conversion of a beam section's keys.
+    fn given(&self, f: SectionField) -> (&'static str, f64, f64) {
+        match f {
+            SectionField::YoungsModulus => (
+                "youngs_modulus_kN_per_m2",
+                self.youngs_modulus_kN_per_m2,
+                1e3,
+            ),
+            SectionField::ShearModulus => {
+                ("shear_modulus_kN_per_m2", self.shear_modulus_kN_per_m2, 1e3)
+            }
+            SectionField::Area => ("area_m2", self.area_m2, 1.0),
+            SectionField::ShearAreaY => ("shear_area_y_m2", self.shear_area_y_m2, 1.0),
+            SectionField::ShearAreaZ => ("shear_area_z_m2", self.shear_area_z_m2, 1.0),
+            SectionField::Iy => ("iy_m4", self.iy_m4, 1.0),
+            SectionField::Iz => ("iz_m4", self.iz_m4, 1.0),
+            SectionField::TorsionConstant => ("torsion_constant_m4", self.torsion_constant_m4, 1.0),
+            SectionField::MassPerLength => ("mass_t_per_m", self.mass_t_per_m, 1e3),
+        }
+    }
+
+    /// The section in SI, every key named under `prefix` (`bridge`, `bridge.pier`): checked
+    /// by the section's own rule ([`BeamSection::validate`], its sign), then each key for its
+    /// plausible range ([`within`]) in its own unit: a value that passes the sign check but
+    /// leaves the element's stiffness singular to f64 or the Newmark matrix without digits is
+    /// refused by its key. The ranges lie within [`super::MAX_MAGNITUDE`]. `polar_mass` is
+    /// `None` (the girders' own key sets it).
     pub fn resolve(&self, prefix: &str) -> Result<BeamSection> {
         let key = |k: &str| format!("{prefix}.{k}");
-        let range = |k: &str, v: f64, lo: f64, hi: f64, why: &str| {
-            within(&key(k), positive(&key(k), v)?, lo, hi, why)
-        };
-        let e = range(
+        let section = BeamSection::from_fields(|f| {
+            let (_, v, to_si) = self.given(f);
+            v * to_si
+        });
+        section.validate().map_err(|fault| {
+            let (k, v, _) = self.given(fault.field);
+            fault.error(key(k), v)
+        })?;
+        let range = |k: &str, v: f64, lo: f64, hi: f64, why: &str| within(&key(k), v, lo, hi, why);
+        let e = self.youngs_modulus_kN_per_m2;
+        range(
             "youngs_modulus_kN_per_m2",
-            self.youngs_modulus_kN_per_m2,
+            e,
             1e3,
             1e9,
             "kN/m²: soft rubber's 1 MPa to 1000 GPa, stiffer than any steel",
         )?;
-        let g = range(
+        range(
             "shear_modulus_kN_per_m2",
             self.shear_modulus_kN_per_m2,
             e * 1e-3,
             e,
             "youngs_modulus/1000 to youngs_modulus: an isotropic solid has E/3 ≤ G ≤ E/2",
         )?;
-        let area = range(
+        let area = self.area_m2;
+        range(
             "area_m2",
-            self.area_m2,
+            area,
             1e-4,
             1e3,
             "m²: a hundredth of a rail's section to a 1000 m² deck",
         )?;
-        let shear_area = |k: &str, v: f64| {
+        for (k, v) in [
+            ("shear_area_y_m2", self.shear_area_y_m2),
+            ("shear_area_z_m2", self.shear_area_z_m2),
+        ] {
             let why = "area_m2/1000 to area_m2: a shear area is a part of the section";
-            range(k, v, area * 1e-3, area, why)
-        };
-        let inertia = |k: &str, v: f64| {
+            range(k, v, area * 1e-3, area, why)?;
+        }
+        for (k, v) in [
+            ("iy_m4", self.iy_m4),
+            ("iz_m4", self.iz_m4),
+            ("torsion_constant_m4", self.torsion_constant_m4),
+        ] {
             let why =
                 "m⁴: a hundredth of a rail's 3e-5 m⁴ to a hundred times the largest box girder's";
-            range(k, v, 1e-8, 1e4, why)
-        };
-        Ok(BeamSection {
-            youngs_modulus: e * 1e3,
-            shear_modulus: g * 1e3,
-            area,
-            shear_area_y: shear_area("shear_area_y_m2", self.shear_area_y_m2)?,
-            shear_area_z: shear_area("shear_area_z_m2", self.shear_area_z_m2)?,
-            iy: inertia("iy_m4", self.iy_m4)?,
-            iz: inertia("iz_m4", self.iz_m4)?,
-            torsion_constant: inertia("torsion_constant_m4", self.torsion_constant_m4)?,
-            mass_per_length: range(
-                "mass_t_per_m",
-                self.mass_t_per_m,
-                1e-2,
-                1e3,
-                "t/m: 10 kg/m, lighter than any rail, to 1000 t/m; lighter girders leave the \
-                 Newmark matrix of the FE spans without digits",
-            )? * 1e3,
-            polar_mass: None,
-        })
+            range(k, v, 1e-8, 1e4, why)?;
+        }
+        range(
+            "mass_t_per_m",
+            self.mass_t_per_m,
+            1e-2,
+            1e3,
+            "t/m: 10 kg/m, lighter than any rail, to 1000 t/m; lighter girders leave the \
+             Newmark matrix of the FE spans without digits",
+        )?;
+        Ok(section)
     }
 }
 
@@ -181,8 +209,9 @@ mod tests {
         assert_eq!(c.bridge.spans, vec![25.0]);
     }
 
-    /// The girders' and the piers' keys go through the one conversion: each plausible range
-    /// is checked under either prefix, with the key's own unit in the error.
+    /// The girders' and the piers' keys go through the one conversion: the section's sign
+    /// rule (`BeamSection::validate`) and each plausible range are checked under either
+    /// prefix, with the key's own name, unit and given value in the error.
     #[test]
     fn girder_and_pier_keys_are_checked_alike() {
         for prefix in ["bridge", "bridge.pier"] {
@@ -200,6 +229,9 @@ mod tests {
                 ("iz_m4", "1e-9", "m⁴"),
                 ("mass_t_per_m", "1e-3", "t/m"),
                 ("youngs_modulus_kN_per_m2", "-1.0", "positive"),
+                ("mass_t_per_m", "nan", "positive finite number, got NaN"),
+                // Above MAX_MAGNITUDE: refused by the key's range, in its unit.
+                ("youngs_modulus_kN_per_m2", "2e9", "kN/m²"),
             ] {
                 let set = format!("{prefix}.{key}={value}");
                 let e = Case::load("paper-5", std::slice::from_ref(&set))

@@ -192,19 +192,8 @@ impl ViaductSpec {
             ("girder", &self.girder),
             ("pier.section", &self.pier.section),
         ] {
-            for (k, v) in [
-                ("youngs_modulus", s.youngs_modulus),
-                ("shear_modulus", s.shear_modulus),
-                ("area", s.area),
-                ("shear_area_y", s.shear_area_y),
-                ("shear_area_z", s.shear_area_z),
-                ("iy", s.iy),
-                ("iz", s.iz),
-                ("torsion_constant", s.torsion_constant),
-                ("mass_per_length", s.mass_per_length),
-            ] {
-                positive(&format!("bridge.{name}.{k}"), v)?;
-            }
+            s.validate()
+                .map_err(|f| f.error(format!("bridge.{name}.{}", f.field.name()), f.value))?;
         }
         Ok(())
     }
