@@ -129,13 +129,7 @@ impl SectionFault {
     /// The one-line error under the caller's name for the field, `key`, showing the value as
     /// the caller was given it, `given` (a scenario's kN/m², t/m).
     pub fn error(&self, key: impl Into<String>, given: f64) -> crate::Error {
-        crate::Error::invalid(
-            key,
-            format!(
-                "must be a positive finite number, got {}",
-                crate::error::shown(given)
-            ),
-        )
+        super::check::not_positive(key, given)
     }
 }
 
@@ -180,7 +174,7 @@ impl BeamSection {
     pub fn validate(&self) -> Result<(), SectionFault> {
         for field in SectionField::ALL {
             let value = self.get(field);
-            if !(value.is_finite() && value > 0.0) {
+            if !super::check::is_positive(value) {
                 return Err(SectionFault { field, value });
             }
         }

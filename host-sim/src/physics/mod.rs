@@ -4,6 +4,7 @@
 //! Nothing here knows about scenarios, runs or commands: it is matrices, integrators and
 //! closed forms, built from SI values.
 pub mod cars;
+pub mod check;
 pub mod fe;
 pub mod guideway;
 pub mod modal;

@@ -6,6 +6,7 @@
 //! tables", quotes these functions).
 
 use crate::error::shown;
+use crate::physics::check as sign;
 use crate::{Error, Result};
 
 /// The largest magnitude any physical key may have, in its own unit (kN/m², t, m, m/s, …):
@@ -26,15 +27,10 @@ pub(super) fn in_range(key: &str, v: f64) -> Result<f64> {
     }
 }
 
+/// `v` a positive finite number (the physics' sign rule, [`sign::positive`]) within
+/// ±[`MAX_MAGNITUDE`].
 pub(super) fn positive(key: &str, v: f64) -> Result<f64> {
-    if v.is_finite() && v > 0.0 {
-        in_range(key, v)
-    } else {
-        Err(Error::invalid(
-            key,
-            format!("must be a positive finite number, got {}", shown(v)),
-        ))
-    }
+    in_range(key, sign::positive(key, v)?)
 }
 
 pub(super) fn finite(key: &str, v: f64) -> Result<f64> {
@@ -48,15 +44,9 @@ pub(super) fn finite(key: &str, v: f64) -> Result<f64> {
     }
 }
 
+/// `v` zero or a positive finite number ([`sign::non_negative`]) within ±[`MAX_MAGNITUDE`].
 pub(super) fn non_negative(key: &str, v: f64) -> Result<f64> {
-    if v.is_finite() && v >= 0.0 {
-        in_range(key, v)
-    } else {
-        Err(Error::invalid(
-            key,
-            format!("must be zero or a positive finite number, got {}", shown(v)),
-        ))
-    }
+    in_range(key, sign::non_negative(key, v)?)
 }
 
 /// `v` (in the key's unit) within `[lo, hi]`: the plausible range of a key whose extremes pass

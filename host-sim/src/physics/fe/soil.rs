@@ -30,6 +30,7 @@
 //! time-domain dashpot can carry; at ξ = 0.03 and the bridge's 2–6.5 Hz it is 6–20 % of the
 //! vertical radiation dashpot (docs/ground.md). The springs use the real modulus G = ρV_s².
 
+use crate::physics::check::positive;
 use crate::Error;
 
 /// Homogeneous half-space.
@@ -72,16 +73,13 @@ pub struct Impedance {
 
 /// Gazetas' footing impedance (module docs) for a rectangle `along_x` × `across_y` (m).
 pub fn gazetas_rectangle(soil: &Soil, along_x: f64, across_y: f64) -> crate::Result<Impedance> {
-    let ok = |v: f64| v.is_finite() && v > 0.0;
     for (key, v) in [
         ("foundation.along_x", along_x),
         ("foundation.across_y", across_y),
         ("soil.shear_wave_velocity", soil.shear_wave_velocity),
         ("soil.density", soil.density),
     ] {
-        if !ok(v) {
-            return Err(Error::invalid(key, format!("must be > 0, got {v}")));
-        }
+        positive(key, v)?;
     }
     let nu = soil.poisson;
     if !(0.0..0.5).contains(&nu) {

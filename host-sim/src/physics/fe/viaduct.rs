@@ -30,6 +30,7 @@ use super::cholesky::SparseCholesky;
 use super::newmark::{Rayleigh, SpanNewmark, State};
 use super::soil::{gazetas_rectangle, Soil};
 use super::structure::{Axis, Builder, NodeKind, Structure};
+use crate::physics::check::{non_negative, positive};
 use crate::physics::guideway::{BeamSection, Guideway, PointLoad, PointMotion, SectionMotion};
 use crate::physics::seismic::support::{add_ground_loads, GroundLink, GroundState, SupportMotion};
 use crate::Error;
@@ -140,22 +141,6 @@ pub struct ViaductSpec {
     pub foundation: FoundationSpec,
     /// Rayleigh damping added to the dashpots (`None`: dashpots only).
     pub damping: Option<Rayleigh>,
-}
-
-fn positive(key: &str, v: f64) -> crate::Result<()> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(Error::invalid(key, format!("must be > 0, got {v}")))
-    }
-}
-
-fn non_negative(key: &str, v: f64) -> crate::Result<()> {
-    if v.is_finite() && v >= 0.0 {
-        Ok(())
-    } else {
-        Err(Error::invalid(key, format!("must be >= 0, got {v}")))
-    }
 }
 
 impl ViaductSpec {
