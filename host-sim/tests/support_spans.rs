@@ -74,11 +74,10 @@ fn closed_form_midspan(ei: f64, rho_a: f64, l: f64, a: f64, big_omega: f64, t: f
 /// Bounds: modal 1e-5 (Newmark's period error (ω₁Δt)²/12 = 4e-8 over ω₁t ≈ 60 rad of the
 /// free vibration, 2.4e-6, and the shear and rotary inertia left in the section, ~1e-8);
 /// FE 5e-5, the 16-element mesh (measured 1.3e-5; 2.2e-6 with 32 elements, the same at
-/// twice the step, so it is the mesh and not the time step). Fails when the physics is
-/// broken: with the ground's inertia load left out the relative deflection is zero (error 1
-/// of the peak); with the rigid-body part left out of the output the error is the ground's
-/// displacement (~100 × the peak); with the sign of the right bearing's modal load flipped
-/// (modal) or the rigid shape's rotations of the wrong sign (FE), see docs/seismic.md.
+/// twice the step, so it is the mesh and not the time step). Checked to fail when the
+/// physics is broken: the FE's inertia load left out (error 1.0 of the peak), the supported
+/// rows of M r left out of it (5.7e-3), the rigid-body part left out of the FE's output
+/// (183), the sign of the right bearing in the modal load (Eq. S5) flipped (1.0).
 #[test]
 fn one_span_under_uniform_harmonic_support_motion_matches_the_closed_form() {
     let section = euler_bernoulli();
@@ -128,9 +127,8 @@ fn check_midspan(
 /// Three spans (25, 30, 25 m); support 2 (between spans 1 and 2) settled 10 mm down and
 /// support 3 moved 4 mm across: span 1 tilts from 0 to −δ, span 2 from −δ to 0 in z and from
 /// 0 to 4 mm in y, span 3 from 4 mm to 0 in y; no twist; at t = 0 and after 200 unloaded
-/// steps, to 1e-9 of the settlement, FE and modal, at points on the axis and off it. Fails
-/// when the rigid-body part is left out of the output (error 1 of δ) or interpolated with
-/// the wrong end (error ~1).
+/// steps, to 1e-9 of the settlement, FE and modal, at points on the axis and off it.
+/// Checked to fail with the rigid-body part left out of the FE's output (error 1.0 of δ).
 #[test]
 fn settled_supports_tilt_each_span_rigidly() {
     let bridge = Bridge {
@@ -197,12 +195,14 @@ fn settled(
 /// A vertical and a lateral two-cycle pulse (2.5 Hz, 1 and 0.7 m/s², 0.3 m/s² along x)
 /// passing three spans (25, 30, 25 m, the §4.2 beam) at 150 m/s: the FE spans (16
 /// elements) against the modal spans (160 terms), both undamped, absolute midspan z and y
-/// over 1.2 s at Δt = 1e-4 s, the difference measured against the peak of the motion
-/// relative to the rigid-body motion. Bound 1e-3: both are Timoshenko beams advanced by the
-/// same Newmark under the same ground, so what differs is the space discretisation; the
-/// measured difference, 5.6e-4 with 16 elements, falls to 1.5e-4 with 32 (h², the FE mesh;
-/// the series is converged at 160 terms). Fails when one of the two is broken (the
-/// mutations in docs/seismic.md).
+/// over 1.2 s at Δt = 1e-4 s at the quarter points and midspans, the difference measured
+/// against the peak of the motion relative to the rigid-body motion. Bound 1e-3: both are
+/// Timoshenko beams advanced by the same Newmark under the same ground, so what differs is
+/// the space discretisation; the measured difference, 5.6e-4 with 16 elements, falls to
+/// 1.5e-4 with 32 (h², the FE mesh; the series is converged at 160 terms). Checked to fail
+/// with the FE's inertia load left out (1.0), its supported rows of M r left out (5.7e-3),
+/// the bearings' ends swapped in the FE's load (4.7e-2) or in the modal one (4.7e-2), the
+/// modal load's right-bearing sign flipped (1.3), the FE's rigid-body output left out (18).
 #[test]
 fn fe_and_modal_spans_agree_under_wave_passage() {
     let bridge = Bridge {
@@ -225,7 +225,9 @@ fn fe_and_modal_spans_agree_under_wave_passage() {
     };
     let mut fe = FeGuideway::with_support_motion(&bridge, 16, dt, None, motion()).unwrap();
     let mut modal = ModalSpans::with_support_motion(&bridge, 160, dt, motion()).unwrap();
-    let mids = [12.5, 40.0, 67.5];
+    // The quarter points and midspans: an antisymmetric error vanishes at midspan only.
+    let starts = [0.0, 25.0, 55.0];
+    let lengths = [25.0, 30.0, 25.0];
     let (mut worst, mut peak) = ([0.0f64; 2], [0.0f64; 2]);
     for _ in 0..steps {
         fe.solve_step(&[]);
@@ -233,16 +235,20 @@ fn fe_and_modal_spans_agree_under_wave_passage() {
         modal.solve_step(&[]);
         modal.commit();
         let ground = modal.ground().unwrap();
-        for (k, x) in mids.into_iter().enumerate() {
-            let (a, b) = (fe.section_at(x), modal.section_at(x));
-            // The rigid-body part at midspan, to measure against the relative motion.
-            let rigid = |axis: usize| (ground[k].d[axis] + ground[k + 1].d[axis]) / 2.0;
-            for (i, (a, b, r)) in [(a.z, b.z, rigid(2)), (a.y, b.y, rigid(1))]
-                .into_iter()
-                .enumerate()
-            {
-                worst[i] = worst[i].max((a - b).abs());
-                peak[i] = peak[i].max((b - r).abs());
+        for k in 0..3 {
+            for xi in [0.25, 0.5, 0.75] {
+                let x = starts[k] + xi * lengths[k];
+                let (a, b) = (fe.section_at(x), modal.section_at(x));
+                // The rigid-body part, to measure against the relative motion.
+                let rigid =
+                    |axis: usize| (1.0 - xi) * ground[k].d[axis] + xi * ground[k + 1].d[axis];
+                for (i, (a, b, r)) in [(a.z, b.z, rigid(2)), (a.y, b.y, rigid(1))]
+                    .into_iter()
+                    .enumerate()
+                {
+                    worst[i] = worst[i].max((a - b).abs());
+                    peak[i] = peak[i].max((b - r).abs());
+                }
             }
         }
     }
@@ -265,13 +271,13 @@ fn fe_and_modal_spans_agree_under_wave_passage() {
 /// from the element matrices, the bearings' DOFs (v, w at both ends) prescribed as the
 /// ground's trapezoid-rule motion, M_ff ü_f + C_ff u̇_f + K_ff u_f = −M_fc ü_c − C_fc u̇_c −
 /// K_fc u_c for the others (C = β K on every DOF), by a dense Newmark; against the code's
-/// relative formulation plus rigid-body motion, midspan z and y, under different records at
+/// relative formulation plus rigid-body motion, z and y, under different records at
 /// the two bearings, 0.6 s at Δt = 1e-4 s with β = 2e-3 s, to 1e-6 of the peak. The two are
 /// the same discrete system (the ground integrated as Newmark integrates a prescribed
-/// acceleration, β K r = 0 for a rigid-body shape), so they agree to rounding. Fails when
-/// the supported rows of M r are left out of the inertia load (6e-3), when θ of the rigid
-/// shape has the wrong sign (~1) or when the damping acts on the absolute motion (α ≠ 0 is
-/// not this choice).
+/// acceleration, K r = 0 and so β K r = 0 for a rigid-body shape), so they agree to
+/// rounding; at the quarter points and midspan (nodes 2, 4, 6 of 8). Checked to fail with
+/// the inertia load left out (7.8e-2), its supported rows of M r left out (1.8e-3), the
+/// bearings' ends swapped in the load (1.5e-3), the rigid-body output left out (1.0).
 #[test]
 fn relative_and_absolute_formulations_agree() {
     let section = BeamSection::paper_4_2();
@@ -378,13 +384,13 @@ fn relative_and_absolute_formulations_agree() {
     let keff = (&kff + &mff * a0 + &cff * a1).lu();
     let nf = free.len();
     let (mut d, mut v, mut a) = (DVector::zeros(nf), DVector::zeros(nf), DVector::zeros(nf));
-    let mid_node = ne / 2;
-    let at = |d0: usize| {
+    // Quarter points and midspan (nodes 2, 4, 6): an antisymmetric error vanishes at
+    // midspan only.
+    let at = |node: usize, d0: usize| {
         free.iter()
-            .position(|&f| f == mid_node * DOFS_PER_NODE + d0)
+            .position(|&f| f == node * DOFS_PER_NODE + d0)
             .unwrap()
     };
-    let (iw, iv) = (at(dof::W), at(dof::V));
     let (mut worst, mut peak) = ([0.0f64; 2], [0.0f64; 2]);
     for step in 1..=steps {
         let uc = prescribed_vec(step, |g| g.d);
@@ -400,10 +406,13 @@ fn relative_and_absolute_formulations_agree() {
         d = d1;
         g.solve_step(&[]);
         g.commit();
-        let s = g.section_at(l / 2.0);
-        for (i, (code, here)) in [(s.z, d[iw]), (s.y, d[iv])].into_iter().enumerate() {
-            worst[i] = worst[i].max((code - here).abs());
-            peak[i] = peak[i].max(here.abs());
+        for node in [2, 4, 6] {
+            let s = g.section_at(node as f64 * l / ne as f64);
+            let pairs = [(s.z, d[at(node, dof::W)]), (s.y, d[at(node, dof::V)])];
+            for (i, (code, here)) in pairs.into_iter().enumerate() {
+                worst[i] = worst[i].max((code - here).abs());
+                peak[i] = peak[i].max(here.abs());
+            }
         }
     }
     for (i, name) in ["z", "y"].iter().enumerate() {
@@ -425,8 +434,9 @@ fn relative_and_absolute_formulations_agree() {
 /// spans 1 and 2 are 5 mm down and span 3's at rest (to 1e-9 m: the settled line, written
 /// here); over the run FE and modal agree to 1e-3 of the peak midspan motion (the FE mesh,
 /// as in `fe_and_modal_spans_agree_under_wave_passage`); summary.json records the section;
-/// the rigid guideway refuses `[support]` naming it (exit 2). Fails if the spans ignore
-/// `[support]` (the settled row is zero) or the section is refused.
+/// the rigid guideway refuses `[support]` naming it (exit 2). Checked to fail with the
+/// FE's inertia load left out (8.3e-2) or the modal load's right-bearing sign flipped
+/// (9.9e-2); it fails too if the spans ignore `[support]` (the settled row is zero).
 #[test]
 fn a_scenario_drives_the_spans_bearings() {
     let text = r#"
