@@ -173,7 +173,7 @@ impl Case {
             (Some(_), _, _) => {
                 return Err(Error::invalid(
                     "support",
-                    "drives the footings of an FE viaduct or the bearings of FE or modal spans (run.model = \"fe\" or \"modal\"); the rigid guideway takes no support motion",
+                    "drives the footings of an FE viaduct or the bearings of FE or modal spans (run.model = \"fe\", or \"modal\" with bridge.kind = \"spans\"); the rigid guideway takes no support motion",
                 ))
             }
         };

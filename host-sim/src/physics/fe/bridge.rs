@@ -31,6 +31,12 @@
 //! between nodes is slightly off the exact Timoshenko response (measured: 1.8e-3 relative
 //! deflection error for a load at 0.48 of a 1.25 m element of the §4.2 beam); at nodes it is
 //! exact.
+//!
+//! Support motion ([`FeGuideway::with_support_motion`], docs/seismic.md "Spans on rigid
+//! supports"): the spans' state is then their motion relative to the rigid-body motion
+//! between their bearings, driven by that motion's inertia load (Eq. S4), a load of the whole
+//! step added to its load-free right-hand side; the rail's motion the queries return is
+//! absolute (Eq. S3). Without it the spans are what they were, bit for bit.
 
 use super::assembly::SpanModel;
 use super::assembly::BEARINGS;

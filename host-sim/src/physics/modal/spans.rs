@@ -4,6 +4,11 @@
 //! DOF, so each span is the single-span problem of Eq. 20 driven by the loads on it alone
 //! ([`ModalGuideway`], with the loads shifted to its local X). A load on a shared support
 //! gives sin(nπ·0) = sin(nπ) = 0 on both sides, so where it is counted does not matter.
+//!
+//! Support motion ([`ModalSpans::with_support_motion`], docs/seismic.md "Spans on rigid
+//! supports"): each series then holds its span's motion relative to the rigid-body motion
+//! between its bearings, loaded by that motion's inertia in closed form (Eq. S5); the
+//! queries add the rigid-body motion back (Eq. S3).
 
 use super::span::{ModalError, ModalGuideway};
 use crate::physics::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
