@@ -164,7 +164,7 @@ pub fn natural_frequencies(section: &BeamSection, length: f64, n: usize) -> Mode
 /// equation takes nothing: the rigid-body rotation is constant along the span and
 /// ∫₀ᴸ cos(nπx/L) dx = 0.
 pub fn bearing_force(n: usize, rho_a: f64, a_left: f64, a_right: f64) -> f64 {
-    let sign = if n % 2 == 0 { 1.0 } else { -1.0 };
+    let sign = if n.is_multiple_of(2) { 1.0 } else { -1.0 };
     -2.0 * rho_a / (n as f64 * core::f64::consts::PI) * (a_left - sign * a_right)
 }
 
