@@ -47,20 +47,37 @@ impl AnyGuideway {
                     "the modal reference has no viaduct on piers; use fe or rigid",
                 ))
             }
-            (Model::Fe, None) => AnyGuideway::Fe(FeGuideway::with_damping(
-                &case.bridge,
-                case.elements_per_span,
-                dt,
-                case.damping,
-            )?),
-            (Model::Modal, None) if case.bridge.spans.len() == 1 => AnyGuideway::Modal(
-                ModalGuideway::from_bridge(&case.bridge, case.modes, dt)
-                    .map_err(|e| Error::numerical(e.to_string()))?,
-            ),
-            (Model::Modal, None) => AnyGuideway::ModalSpans(
-                ModalSpans::new(&case.bridge, case.modes, dt)
-                    .map_err(|e| Error::numerical(e.to_string()))?,
-            ),
+            (Model::Fe, None) => AnyGuideway::Fe(match &case.support {
+                Some(motion) => FeGuideway::with_support_motion(
+                    &case.bridge,
+                    case.elements_per_span,
+                    dt,
+                    case.damping,
+                    motion.clone(),
+                )?,
+                None => FeGuideway::with_damping(
+                    &case.bridge,
+                    case.elements_per_span,
+                    dt,
+                    case.damping,
+                )?,
+            }),
+            (Model::Modal, None) => match &case.support {
+                Some(motion) => AnyGuideway::ModalSpans(ModalSpans::with_support_motion(
+                    &case.bridge,
+                    case.modes,
+                    dt,
+                    motion.clone(),
+                )?),
+                None if case.bridge.spans.len() == 1 => AnyGuideway::Modal(
+                    ModalGuideway::from_bridge(&case.bridge, case.modes, dt)
+                        .map_err(|e| Error::numerical(e.to_string()))?,
+                ),
+                None => AnyGuideway::ModalSpans(
+                    ModalSpans::new(&case.bridge, case.modes, dt)
+                        .map_err(|e| Error::numerical(e.to_string()))?,
+                ),
+            },
             (Model::Rigid, _) => AnyGuideway::Rigid(RigidGuideway::new(dt)),
         })
     }

@@ -547,7 +547,7 @@ pub struct Scenario {
     pub soil: Option<SoilSection>,
     /// Ground receivers (`[ground]`).
     pub ground: Option<GroundSection>,
-    /// Ground motion and settlement at the viaduct's piers (`[support]`, docs/seismic.md).
+    /// Ground motion and settlement at the viaduct's piers or the spans' bearings (`[support]`, docs/seismic.md).
     pub support: Option<crate::input::support::SupportSection>,
 }
 

@@ -190,6 +190,18 @@ impl SupportSection {
         span_length: f64,
         read: impl Fn(&str) -> Result<String>,
     ) -> Result<SupportMotion> {
+        let x: Vec<f64> = (0..piers).map(|k| k as f64 * span_length).collect();
+        self.to_motion_at(&x, read)
+    }
+
+    /// As [`Self::to_motion`] for supports at `positions` (m along the line, support 1
+    /// first; one per pier, or per span end for spans on rigid supports).
+    pub fn to_motion_at(
+        &self,
+        positions: &[f64],
+        read: impl Fn(&str) -> Result<String>,
+    ) -> Result<SupportMotion> {
+        let piers = positions.len();
         let load = |path: &str| GroundRecord::from_csv(path, &read(path)?);
         let given = [
             self.record.is_some(),
@@ -221,9 +233,9 @@ impl SupportSection {
                 }
                 SupportMotion::per_support(list.iter().map(|p| load(p)).collect::<Result<_>>()?)
             }
-            (Some(path), None) => self.shared(load(path)?, piers, span_length)?,
+            (Some(path), None) => self.shared(load(path)?, positions)?,
             (None, None) => match &self.synthetic {
-                Some(syn) => self.shared(syn.record()?, piers, span_length)?,
+                Some(syn) => self.shared(syn.record()?, positions)?,
                 None => SupportMotion::at_rest(piers),
             },
             (Some(_), Some(_)) => unreachable!("refused above"),
@@ -249,14 +261,9 @@ impl SupportSection {
     }
 
     /// One record for every pier, uniform or with wave passage.
-    fn shared(
-        &self,
-        record: GroundRecord,
-        piers: usize,
-        span_length: f64,
-    ) -> Result<SupportMotion> {
+    fn shared(&self, record: GroundRecord, positions: &[f64]) -> Result<SupportMotion> {
         match (self.spatial, self.apparent_speed_m_per_s) {
-            (Spatial::Uniform, None) => Ok(SupportMotion::uniform(record, piers)),
+            (Spatial::Uniform, None) => Ok(SupportMotion::uniform(record, positions.len())),
             (Spatial::Uniform, Some(_)) => Err(Error::invalid(
                 "support.apparent_speed_m_per_s",
                 "is for spatial = \"wave-passage\" only",
@@ -273,8 +280,7 @@ impl SupportSection {
                         format!("must be within [{lo}, {hi:e}] m/s, got {c}"),
                     ));
                 }
-                let x: Vec<f64> = (0..piers).map(|k| k as f64 * span_length).collect();
-                SupportMotion::wave_passage(record, &x, c)
+                SupportMotion::wave_passage(record, positions, c)
             }
         }
     }

@@ -112,7 +112,8 @@ pub struct Case {
     /// Ground receivers `[x, y]` (m) whose vertical velocity the run writes (`[ground]`).
     #[serde(rename = "ground_receivers_m", skip_serializing_if = "Option::is_none")]
     pub ground: Option<Vec<[f64; 2]>>,
-    /// The motion of the viaduct's supports (`[support]`): recorded as its section
+    /// The motion of the supports (`[support]`: the viaduct's footings or the spans'
+    /// bearings): recorded as its section
     /// ([`Case::record`]).
     #[serde(skip)]
     pub support: Option<SupportMotion>,
@@ -165,13 +166,14 @@ impl Case {
                 ))
             }
         };
-        let support = match (&sc.support, &viaduct) {
-            (None, _) => None,
-            (Some(s), Some(v)) if sc.run.model == Model::Fe => Some(viaduct::support(s, v)?),
-            (Some(_), _) => {
+        let support = match (&sc.support, &viaduct, sc.run.model) {
+            (None, _, _) => None,
+            (Some(s), Some(v), Model::Fe) => Some(viaduct::support(s, v)?),
+            (Some(s), None, Model::Fe | Model::Modal) => Some(viaduct::span_support(s, &bridge)?),
+            (Some(_), _, _) => {
                 return Err(Error::invalid(
                     "support",
-                    "drives the footings of an FE viaduct (run.model = \"fe\", bridge.kind = \"viaduct\"); spans on rigid supports take no support motion",
+                    "drives the footings of an FE viaduct or the bearings of FE or modal spans (run.model = \"fe\", or \"modal\" with bridge.kind = \"spans\"); the rigid guideway takes no support motion",
                 ))
             }
         };

@@ -156,6 +156,19 @@ pub(super) fn support(s: &SupportSection, v: &ViaductSpec) -> Result<SupportMoti
     s.to_motion(v.spans + 1, v.span_length, record_text)
 }
 
+/// The ground motion and settlements of `[support]` at the `spans + 1` supports of simply
+/// supported spans on rigid supports (support k at the start of span k, the last at the end
+/// of the last span), counted and keyed as a viaduct's piers.
+pub(super) fn span_support(s: &SupportSection, bridge: &Bridge) -> Result<SupportMotion> {
+    let x: Vec<f64> = std::iter::once(0.0)
+        .chain(bridge.spans.iter().scan(0.0, |x, l| {
+            *x += l;
+            Some(*x)
+        }))
+        .collect();
+    s.to_motion_at(&x, record_text)
+}
+
 /// A record file's text: a regular file of at most [`MAX_RECORD_BYTES`] (a device or a pipe
 /// named in a scenario could be endless or block the run before it starts).
 fn record_text(path: &str) -> Result<String> {

@@ -60,7 +60,15 @@ pub struct SpanModel {
     pub k: SymBanded,
     /// Consistent mass on the free DOFs (banded).
     pub m: SymBanded,
+    /// The inertia of each bearing's rigid-body shape, `M r_j` on the free DOFs with M the
+    /// mass of every DOF (supported ones too, so the mass coupling to the bearings counts):
+    /// j as in [`Self::bearing_shape`] (docs/seismic.md Eq. S4).
+    pub bearing_inertia: [DVector<f64>; BEARINGS],
 }
+
+/// The bearing motions a span follows: z at its left and right ends, then y at its left and
+/// right ends ([`SpanModel::bearing_shape`]).
+pub const BEARINGS: usize = 4;
 
 impl SpanModel {
     /// Assemble `elements` equal Timoshenko elements over a span of `length`.
@@ -132,6 +140,23 @@ impl SpanModel {
                 }
             }
         }
+        let mut bearing_inertia: [DVector<f64>; BEARINGS] =
+            std::array::from_fn(|_| DVector::zeros(n));
+        for (j, f) in bearing_inertia.iter_mut().enumerate() {
+            for e in 0..elements {
+                let base = e * DOFS_PER_NODE;
+                let r = ElementVector::from_fn(|i, _| {
+                    let node = (base + i) / DOFS_PER_NODE;
+                    bearing_shape(j, nodes[node] / length, length)[i % DOFS_PER_NODE]
+                });
+                let fe = me * r;
+                for (i, v) in fe.iter().enumerate() {
+                    if let Some(fi) = free_index[base + i] {
+                        f[fi] += v;
+                    }
+                }
+            }
+        }
         Ok(SpanModel {
             length,
             nodes,
@@ -139,6 +164,18 @@ impl SpanModel {
             full_index,
             k,
             m,
+            bearing_inertia,
+        })
+    }
+
+    /// The rigid-body shape r_j of bearing motion j ([`BEARINGS`]) on the free DOFs: the
+    /// span's displacement when that bearing moves by 1 m and the other stays (w or v linear
+    /// between the bearings, θy = −∂w/∂x, θz = ∂v/∂x; no strain, so no force).
+    pub fn bearing_shape(&self, j: usize) -> DVector<f64> {
+        DVector::from_fn(self.free_dofs(), |f, _| {
+            let i = self.full_index[f];
+            let x = self.nodes[i / DOFS_PER_NODE];
+            bearing_shape(j, x / self.length, self.length)[i % DOFS_PER_NODE]
         })
     }
 
@@ -298,4 +335,22 @@ impl SpanModel {
     pub fn stiffness_factor(&self) -> crate::Result<SparseCholesky> {
         SparseCholesky::new(&self.k).map_err(|e| Error::numerical(format!("span stiffness: {e}")))
     }
+}
+
+/// The six DOFs of a node at ξ = x/L of a span of `length` under bearing motion j
+/// ([`BEARINGS`]): the quasi-static rigid-body motion of Eq. S3 (docs/seismic.md).
+fn bearing_shape(j: usize, xi: f64, length: f64) -> [f64; DOFS_PER_NODE] {
+    let mut d = [0.0; DOFS_PER_NODE];
+    let (value, slope) = match j % 2 {
+        0 => (1.0 - xi, -1.0 / length),
+        _ => (xi, 1.0 / length),
+    };
+    if j < 2 {
+        d[dof::W] = value;
+        d[dof::RY] = -slope;
+    } else {
+        d[dof::V] = value;
+        d[dof::RZ] = slope;
+    }
+    d
 }

@@ -31,13 +31,21 @@
 //! between nodes is slightly off the exact Timoshenko response (measured: 1.8e-3 relative
 //! deflection error for a load at 0.48 of a 1.25 m element of the §4.2 beam); at nodes it is
 //! exact.
+//!
+//! Support motion ([`FeGuideway::with_support_motion`], docs/seismic.md "Spans on rigid
+//! supports"): the spans' state is then their motion relative to the rigid-body motion
+//! between their bearings, driven by that motion's inertia load (Eq. S4), a load of the whole
+//! step added to its load-free right-hand side; the rail's motion the queries return is
+//! absolute (Eq. S3). Without it the spans are what they were, bit for bit.
 
 use super::assembly::SpanModel;
+use super::assembly::BEARINGS;
 use super::cholesky::{Scratch, SparseCholesky};
 use super::flexibility::{Flexibility, HotRows, LoadSupport};
 use super::modal_basis::ModalBasis;
 use super::newmark::{effective_stiffness, rayleigh_matrix, Rayleigh, SpanNewmark, State};
 use crate::physics::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
+use crate::physics::seismic::support::{GroundState, GroundTrack, SupportMotion, AXES};
 use crate::Error;
 use maglev_core::gap::{ElementVector, WheelShape, ELEMENT_DOFS};
 use nalgebra::DVector;
@@ -111,6 +119,11 @@ struct Span {
     /// gathered again when `rows_dirty`.
     rows: Option<HotRows>,
     rows_dirty: bool,
+    /// The step's inertia load of the ground, −Σ_j M r_j ü_gj (Eq. S4), when the spans
+    /// follow support motion (empty otherwise).
+    ground: DVector<f64>,
+    /// `ground` is not zero this step.
+    driven: bool,
 }
 
 impl Span {
@@ -118,7 +131,7 @@ impl Span {
     fn advance(&mut self, sys: &SpanSystem, columns: bool) {
         self.hot_valid = false;
         self.mid_value.take();
-        if self.committed_at_rest && !self.loaded {
+        if self.committed_at_rest && !self.loaded && !self.driven {
             if !self.trial_at_rest {
                 self.trial.d.fill(0.0);
                 self.trial_at_rest = true;
@@ -136,6 +149,15 @@ impl Span {
             } else {
                 sys.newmark
                     .free_rhs(&self.committed, &mut self.pred, &mut self.rhs_free);
+            }
+            if self.driven {
+                // A load of the whole step, as the train's: into r, or q_free += Φᵀ f_g.
+                match &sys.modal {
+                    Some(modal) => {
+                        modal.add_loads(self.ground.as_slice(), self.rhs_free.as_mut_slice())
+                    }
+                    None => self.rhs_free += &self.ground,
+                }
             }
             self.free_valid = true;
             self.trial_is_free = false;
@@ -321,6 +343,9 @@ pub struct FeGuideway {
     /// solve is one solve and the columns would add a second (module docs).
     calls: u32,
     columns: bool,
+    /// The ground at the supports when the spans follow support motion
+    /// ([`Self::with_support_motion`]).
+    drive: Option<GroundTrack>,
 }
 
 impl FeGuideway {
@@ -412,6 +437,8 @@ impl FeGuideway {
                 } else {
                     0
                 }),
+                ground: DVector::zeros(0),
+                driven: false,
             });
             start += length;
         }
@@ -426,7 +453,82 @@ impl FeGuideway {
             places: Vec::with_capacity(PLACES),
             calls: 0,
             columns: true,
+            drive: None,
         })
+    }
+
+    /// As [`Self::with_damping`], with the bearings of span k at supports k and k + 1 (support
+    /// k at the start of span k) following `motion` (docs/seismic.md "Spans on rigid
+    /// supports"): the spans' state is the motion relative to their rigid-body motion between
+    /// the bearings (Eq. S3), driven by the ground's inertia load (Eq. S4) and damped on that
+    /// relative motion; the rail's motion ([`Guideway::motion_at`], [`Guideway::section_at`])
+    /// is absolute. A settlement tilts the spans rigidly from t = 0. Motion along x moves a
+    /// span rigidly along the line and enters none of y, z, θx.
+    pub fn with_support_motion(
+        bridge: &Bridge,
+        elements_per_span: usize,
+        dt: f64,
+        damping: Option<Rayleigh>,
+        motion: SupportMotion,
+    ) -> crate::Result<Self> {
+        let mut g = Self::with_damping(bridge, elements_per_span, dt, damping)?;
+        let supports = g.spans.len() + 1;
+        if motion.supports() != supports {
+            return Err(Error::invalid(
+                "support",
+                format!(
+                    "gives the motion of {} supports, the spans have {supports}",
+                    motion.supports()
+                ),
+            ));
+        }
+        for s in &mut g.spans {
+            s.ground = DVector::zeros(s.load.len());
+        }
+        g.drive = Some(GroundTrack::new(motion));
+        Ok(g)
+    }
+
+    /// The ground at each support on the committed state (`None` without support motion).
+    pub fn ground(&self) -> Option<&[GroundState]> {
+        self.drive.as_ref().map(GroundTrack::committed)
+    }
+
+    /// The step's ground and each span's inertia load of it (Eq. S4), once per step.
+    fn prepare_ground(&mut self) {
+        let Some(track) = &mut self.drive else {
+            return;
+        };
+        if self.calls > 1 {
+            return;
+        }
+        track.prepare(self.dt);
+        let ground = track.trial();
+        for (i, span) in self.spans.iter_mut().enumerate() {
+            let a = bearing_values(&ground[i].a, &ground[i + 1].a);
+            let inertia = &self.systems[span.system].model.bearing_inertia;
+            span.ground.fill(0.0);
+            for (m, a) in inertia.iter().zip(a) {
+                if a != 0.0 {
+                    span.ground.axpy(-a, m, 1.0);
+                }
+            }
+            span.driven = a.iter().any(|&a| a != 0.0);
+        }
+    }
+
+    /// The quasi-static rigid-body motion (y, z) at global `x` on the trial ground (Eq. S3);
+    /// zero without support motion or off the bridge.
+    fn rigid_body(&self, x: f64) -> (f64, f64) {
+        match (&self.drive, self.find(x)) {
+            (Some(track), Some((i, local))) => {
+                let g = track.trial();
+                let xi = local / self.span_model(i).length;
+                let at = |axis: usize| (1.0 - xi) * g[i].d[axis] + xi * g[i + 1].d[axis];
+                (at(1), at(2))
+            }
+            _ => (0.0, 0.0),
+        }
     }
 
     /// Advance the spans of each step on rayon's thread pool (off by default). Results are
@@ -656,6 +758,7 @@ impl Guideway for FeGuideway {
     fn solve_step(&mut self, loads: &[PointLoad]) {
         self.distribute(loads);
         self.calls += 1;
+        self.prepare_ground();
         let (systems, columns) = (&self.systems, self.columns);
         if self.parallel {
             self.spans
@@ -679,15 +782,24 @@ impl Guideway for FeGuideway {
             }
         };
         // A load's point is found among the remembered places (the gaps of the coupling loop).
-        match self.places.iter().find(|p| p.is(x, ey, ez)) {
+        let relative = match self.places.iter().find(|p| p.is(x, ey, ez)) {
             Some(p) => p.at.as_ref().map(motion),
             None => self.place(x, ey, ez).as_ref().map(motion),
         }
-        .unwrap_or_default()
+        .unwrap_or_default();
+        if self.drive.is_none() {
+            return relative;
+        }
+        let (y, z) = self.rigid_body(x);
+        PointMotion {
+            y: relative.y + y,
+            z: relative.z + z,
+        }
     }
 
     fn section_at(&self, x: f64) -> SectionMotion {
-        self.find(x)
+        let relative = self
+            .find(x)
             .and_then(|(i, local)| {
                 let span = &self.spans[i];
                 let sys = &self.systems[span.system];
@@ -707,7 +819,16 @@ impl Guideway for FeGuideway {
                     _ => sys.model.section_with(local, |e| span.element(sys, e)),
                 }
             })
-            .unwrap_or_default()
+            .unwrap_or_default();
+        if self.drive.is_none() {
+            return relative;
+        }
+        let (y, z) = self.rigid_body(x);
+        SectionMotion {
+            y: relative.y + y,
+            z: relative.z + z,
+            ..relative
+        }
     }
 
     fn commit(&mut self) {
@@ -727,5 +848,14 @@ impl Guideway for FeGuideway {
         self.solved = false;
         self.columns = self.calls > 1;
         self.calls = 0;
+        if let Some(track) = &mut self.drive {
+            track.commit();
+        }
     }
+}
+
+/// The values of the bearing motions ([`BEARINGS`]) of a span from its left and right
+/// supports' (x, y, z) values: z left, z right, y left, y right.
+fn bearing_values(left: &[f64; AXES], right: &[f64; AXES]) -> [f64; BEARINGS] {
+    [left[2], right[2], left[1], right[1]]
 }

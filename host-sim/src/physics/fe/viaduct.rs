@@ -32,7 +32,9 @@ use super::soil::{gazetas_rectangle, Soil};
 use super::structure::{Axis, Builder, NodeKind, Structure};
 use crate::physics::check::{non_negative, positive};
 use crate::physics::guideway::{BeamSection, Guideway, PointLoad, PointMotion, SectionMotion};
-use crate::physics::seismic::support::{add_ground_loads, GroundLink, GroundState, SupportMotion};
+use crate::physics::seismic::support::{
+    add_ground_loads, GroundLink, GroundState, GroundTrack, SupportMotion,
+};
 use crate::Error;
 use maglev_core::gap::{dof, locate, ElementVector, WheelShape, DOFS_PER_NODE};
 use nalgebra::DVector;
@@ -332,41 +334,12 @@ pub struct Viaduct {
     drive: Option<Drive>,
 }
 
-/// Support motion at the footings: the ground's state at each pier and the loads
+/// Support motion at the footings: the ground at each pier ([`GroundTrack`]) and the loads
 /// `k·u_g + c·v_g` it puts on the footing DOFs (docs/seismic.md Eq. S1).
-///
-/// The clock is the step count: the trial step ends at `(steps + 1)·Δt`, the time loop's
-/// `t = n·Δt` from t = 0 (`simulation/time_loop.rs`), so the [`Guideway`] interface needs
-/// no time argument.
 #[derive(Debug)]
 struct Drive {
-    motion: SupportMotion,
+    track: GroundTrack,
     links: Vec<GroundLink>,
-    committed: Vec<GroundState>,
-    trial: Vec<GroundState>,
-    steps: u64,
-    /// `trial` holds the ground at the end of the current step.
-    trial_valid: bool,
-}
-
-impl Drive {
-    /// The ground at the end of the current step (computed once per step). No allocation.
-    fn prepare(&mut self, dt: f64) {
-        if self.trial_valid {
-            return;
-        }
-        let t = (self.steps + 1) as f64 * dt;
-        for (k, (g1, g0)) in self.trial.iter_mut().zip(&self.committed).enumerate() {
-            *g1 = g0.step(dt, self.motion.acceleration(k, t));
-        }
-        self.trial_valid = true;
-    }
-
-    fn commit(&mut self) {
-        self.committed.copy_from_slice(&self.trial);
-        self.steps += 1;
-        self.trial_valid = false;
-    }
 }
 
 impl Viaduct {
@@ -460,12 +433,10 @@ impl Viaduct {
                 })
             })
             .collect();
-        let ground: Vec<GroundState> = (0..piers)
-            .map(|k| GroundState::at(motion.settlement(k), motion.acceleration(k, 0.0)))
-            .collect();
+        let track = GroundTrack::new(motion);
         // The settled shape: K d = K_g u_g (the ground at rest, v_g = 0).
         let mut d = DVector::zeros(v.structure.dofs());
-        add_ground_loads(&links, &ground, d.as_mut_slice());
+        add_ground_loads(&links, track.committed(), d.as_mut_slice());
         if d.iter().any(|&x| x != 0.0) {
             v.static_factor
                 .solve_in_place(d.as_mut_slice(), &mut v.static_factor.scratch());
@@ -474,20 +445,13 @@ impl Viaduct {
             v.committed_at_rest = false;
             v.trial_at_rest = false;
         }
-        v.drive = Some(Drive {
-            motion,
-            links,
-            trial: ground.clone(),
-            committed: ground,
-            steps: 0,
-            trial_valid: false,
-        });
+        v.drive = Some(Drive { track, links });
         Ok(v)
     }
 
     /// The ground at each pier on the committed state (`None` without support motion).
     pub fn ground(&self) -> Option<&[GroundState]> {
-        self.drive.as_ref().map(|d| d.committed.as_slice())
+        self.drive.as_ref().map(|d| d.track.committed())
     }
 
     /// The description it was built from.
@@ -575,8 +539,8 @@ impl Guideway for Viaduct {
         let loaded = distribute(&self.spec, &self.layout, loads, &mut self.load);
         self.solved = true;
         if let Some(d) = &mut self.drive {
-            d.prepare(self.dt);
-            add_ground_loads(&d.links, &d.trial, self.load.as_mut_slice());
+            d.track.prepare(self.dt);
+            add_ground_loads(&d.links, d.track.trial(), self.load.as_mut_slice());
         }
         if self.committed_at_rest && !loaded && self.drive.is_none() {
             if !self.trial_at_rest {
@@ -630,7 +594,7 @@ impl Guideway for Viaduct {
         self.free_valid = false;
         self.solved = false;
         if let Some(d) = &mut self.drive {
-            d.commit();
+            d.track.commit();
         }
     }
 }

@@ -157,6 +157,17 @@ pub fn natural_frequencies(section: &BeamSection, length: f64, n: usize) -> Mode
     }
 }
 
+/// The generalised force of series term `n` (≥ 1) of one bending plane from the inertia of
+/// the span's rigid-body motion between its bearings (docs/seismic.md Eq. S5): the load per
+/// length −ρA ü_qs(x), ü_qs = (1 − x/L) a_left + (x/L) a_right, projected as the loads are,
+/// (2/L) ∫₀ᴸ −ρA ü_qs sin(nπx/L) dx = −(2ρA/(nπ)) (a_left − (−1)ⁿ a_right). The rotation
+/// equation takes nothing: the rigid-body rotation is constant along the span and
+/// ∫₀ᴸ cos(nπx/L) dx = 0.
+pub fn bearing_force(n: usize, rho_a: f64, a_left: f64, a_right: f64) -> f64 {
+    let sign = if n.is_multiple_of(2) { 1.0 } else { -1.0 };
+    -2.0 * rho_a / (n as f64 * core::f64::consts::PI) * (a_left - sign * a_right)
+}
+
 /// k_n = nπ/L (rad/m).
 pub fn wavenumber(length: f64, n: usize) -> f64 {
     n as f64 * core::f64::consts::PI / length

@@ -7,7 +7,8 @@ use nalgebra::{Matrix1, Matrix2, Vector1, Vector2};
 
 use super::mode_integrator::{ModeState, NewmarkMode};
 use super::modes::{
-    natural_frequencies, wavenumber, ModeFrequencies, PlaneProperties, TorsionProperties,
+    bearing_force, natural_frequencies, wavenumber, ModeFrequencies, PlaneProperties,
+    TorsionProperties,
 };
 use crate::physics::guideway::{
     BeamSection, Bridge, Guideway, PointLoad, PointMotion, SectionMotion,
@@ -81,6 +82,9 @@ pub struct ModalGuideway {
     committed: SpanState,
     trial: SpanState,
     forces: Vec<ModalForce>,
+    /// Bearing accelerations of the next steps (z left, z right, y left, y right; m/s²),
+    /// set by [`Self::set_bearing_acceleration`]; zero otherwise.
+    bearings: [f64; 4],
 }
 
 impl ModalGuideway {
@@ -157,6 +161,7 @@ impl ModalGuideway {
             committed: SpanState::zero(modes),
             trial: SpanState::zero(modes),
             forces: vec![[0.0; 3]; modes],
+            bearings: [0.0; 4],
         })
     }
 
@@ -222,6 +227,15 @@ impl ModalGuideway {
         (ry, rz)
     }
 
+    /// The accelerations of the bearings at the end of the next steps, `[z left, z right,
+    /// y left, y right]` (m/s²): the series then holds the motion relative to the span's
+    /// rigid-body motion between its bearings, driven by that motion's inertia (Eq. S5,
+    /// [`bearing_force`]). The rigid-body motion itself is the caller's to add
+    /// ([`super::ModalSpans`]).
+    pub fn set_bearing_acceleration(&mut self, a: [f64; 4]) {
+        self.bearings = a;
+    }
+
     fn on_span(&self, x: f64) -> bool {
         (0.0..=self.length).contains(&x)
     }
@@ -241,6 +255,14 @@ impl ModalGuideway {
                 f[0] += fz * s;
                 f[1] += fy * s;
                 f[2] += mx * s;
+            }
+        }
+        if self.bearings.iter().any(|&a| a != 0.0) {
+            let [zl, zr, yl, yr] = self.bearings;
+            let rho_a = self.section.mass_per_length;
+            for (i, f) in self.forces.iter_mut().enumerate() {
+                f[0] += bearing_force(i + 1, rho_a, zl, zr);
+                f[1] += bearing_force(i + 1, rho_a, yl, yr);
             }
         }
     }

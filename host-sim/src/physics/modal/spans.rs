@@ -4,9 +4,16 @@
 //! DOF, so each span is the single-span problem of Eq. 20 driven by the loads on it alone
 //! ([`ModalGuideway`], with the loads shifted to its local X). A load on a shared support
 //! gives sin(nπ·0) = sin(nπ) = 0 on both sides, so where it is counted does not matter.
+//!
+//! Support motion ([`ModalSpans::with_support_motion`], docs/seismic.md "Spans on rigid
+//! supports"): each series then holds its span's motion relative to the rigid-body motion
+//! between its bearings, loaded by that motion's inertia in closed form (Eq. S5); the
+//! queries add the rigid-body motion back (Eq. S3).
 
 use super::span::{ModalError, ModalGuideway};
 use crate::physics::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
+use crate::physics::seismic::support::{GroundState, GroundTrack, SupportMotion};
+use crate::Error;
 
 /// The modal reference for every span of a [`Bridge`] (see the module docs).
 #[derive(Clone, Debug)]
@@ -16,6 +23,9 @@ pub struct ModalSpans {
     spans: Vec<(f64, ModalGuideway)>,
     /// Per-span local loads of the current step (reused; grows only to the largest count).
     local: Vec<PointLoad>,
+    /// The ground at the supports when the spans follow support motion
+    /// ([`Self::with_support_motion`]).
+    drive: Option<GroundTrack>,
 }
 
 impl ModalSpans {
@@ -49,7 +59,54 @@ impl ModalSpans {
             dt,
             spans,
             local: Vec::new(),
+            drive: None,
         })
+    }
+
+    /// As [`Self::new`], with the bearings of span k at supports k and k + 1 following
+    /// `motion` (docs/seismic.md "Spans on rigid supports"): each series holds its span's
+    /// motion relative to the rigid-body motion between its bearings (Eq. S3), driven by that
+    /// motion's inertia in closed form (Eq. S5); the rail's motion is absolute. A settlement
+    /// tilts the spans rigidly from t = 0; motion along x enters none of y, z, θx.
+    /// `motion` must give `spans + 1` supports.
+    pub fn with_support_motion(
+        bridge: &Bridge,
+        modes: usize,
+        dt: f64,
+        motion: SupportMotion,
+    ) -> crate::Result<Self> {
+        let mut s = Self::new(bridge, modes, dt).map_err(|e| Error::numerical(e.to_string()))?;
+        let supports = s.spans.len() + 1;
+        if motion.supports() != supports {
+            return Err(Error::invalid(
+                "support",
+                format!(
+                    "gives the motion of {} supports, the spans have {supports}",
+                    motion.supports()
+                ),
+            ));
+        }
+        s.drive = Some(GroundTrack::new(motion));
+        Ok(s)
+    }
+
+    /// The ground at each support on the committed state (`None` without support motion).
+    pub fn ground(&self) -> Option<&[GroundState]> {
+        self.drive.as_ref().map(GroundTrack::committed)
+    }
+
+    /// The quasi-static rigid-body motion (y, z) of span `i` at local `x` on the trial
+    /// ground (Eq. S3); zero without support motion.
+    fn rigid_body(&self, i: usize, x: f64) -> (f64, f64) {
+        match &self.drive {
+            Some(track) => {
+                let g = track.trial();
+                let xi = x / self.spans[i].1.length();
+                let at = |axis: usize| (1.0 - xi) * g[i].d[axis] + xi * g[i + 1].d[axis];
+                (at(1), at(2))
+            }
+            None => (0.0, 0.0),
+        }
     }
 
     /// Number of spans.
@@ -76,6 +133,14 @@ impl Guideway for ModalSpans {
     }
 
     fn solve_step(&mut self, loads: &[PointLoad]) {
+        if let Some(track) = &mut self.drive {
+            track.prepare(self.dt);
+            let a = track.trial();
+            for (i, (_, g)) in self.spans.iter_mut().enumerate() {
+                let (l, r) = (a[i].a, a[i + 1].a);
+                g.set_bearing_acceleration([l[2], r[2], l[1], r[1]]);
+            }
+        }
         for (start, g) in &mut self.spans {
             self.local.clear();
             self.local.extend(
@@ -93,19 +158,37 @@ impl Guideway for ModalSpans {
 
     fn motion_at(&self, x: f64, ey: f64, ez: f64) -> PointMotion {
         self.find(x)
-            .map(|(i, local)| self.spans[i].1.motion_at(local, ey, ez))
+            .map(|(i, local)| {
+                let m = self.spans[i].1.motion_at(local, ey, ez);
+                let (y, z) = self.rigid_body(i, local);
+                PointMotion {
+                    y: m.y + y,
+                    z: m.z + z,
+                }
+            })
             .unwrap_or_default()
     }
 
     fn section_at(&self, x: f64) -> SectionMotion {
         self.find(x)
-            .map(|(i, local)| self.spans[i].1.section_at(local))
+            .map(|(i, local)| {
+                let m = self.spans[i].1.section_at(local);
+                let (y, z) = self.rigid_body(i, local);
+                SectionMotion {
+                    y: m.y + y,
+                    z: m.z + z,
+                    rx: m.rx,
+                }
+            })
             .unwrap_or_default()
     }
 
     fn commit(&mut self) {
         for (_, g) in &mut self.spans {
             g.commit();
+        }
+        if let Some(track) = &mut self.drive {
+            track.commit();
         }
     }
 }

@@ -303,6 +303,75 @@ impl GroundState {
     }
 }
 
+/// The ground at every support of a structure on the committed state and at the end of the
+/// current step: the clock of a guideway under support motion.
+///
+/// The clock is the step count: the trial step ends at `(steps + 1)·Δt`, the time loop's
+/// `t = n·Δt` from t = 0 (`simulation/time_loop.rs`), so the `Guideway` interface needs no
+/// time argument. At t = 0 each support rests at its settlement with the record's
+/// acceleration there.
+#[derive(Clone, Debug)]
+pub struct GroundTrack {
+    motion: SupportMotion,
+    committed: Vec<GroundState>,
+    trial: Vec<GroundState>,
+    steps: u64,
+    /// `trial` holds the ground at the end of the current step.
+    trial_valid: bool,
+}
+
+impl GroundTrack {
+    /// At t = 0 (module docs).
+    pub fn new(motion: SupportMotion) -> Self {
+        let ground: Vec<GroundState> = (0..motion.supports())
+            .map(|k| GroundState::at(motion.settlement(k), motion.acceleration(k, 0.0)))
+            .collect();
+        GroundTrack {
+            motion,
+            trial: ground.clone(),
+            committed: ground,
+            steps: 0,
+            trial_valid: false,
+        }
+    }
+
+    /// The ground at the end of the current step (Eq. S2; computed once per step). No
+    /// allocation.
+    pub fn prepare(&mut self, dt: f64) {
+        if self.trial_valid {
+            return;
+        }
+        let t = (self.steps + 1) as f64 * dt;
+        for (k, (g1, g0)) in self.trial.iter_mut().zip(&self.committed).enumerate() {
+            *g1 = g0.step(dt, self.motion.acceleration(k, t));
+        }
+        self.trial_valid = true;
+    }
+
+    /// Accept the step's ground (after [`Self::prepare`]).
+    pub fn commit(&mut self) {
+        self.committed.copy_from_slice(&self.trial);
+        self.steps += 1;
+        self.trial_valid = false;
+    }
+
+    /// The ground on the committed state, one per support.
+    pub fn committed(&self) -> &[GroundState] {
+        &self.committed
+    }
+
+    /// The ground at the end of the current step once prepared, else the committed ground
+    /// (what a trial state is read against).
+    pub fn trial(&self) -> &[GroundState] {
+        &self.trial
+    }
+
+    /// The motion it follows.
+    pub fn motion(&self) -> &SupportMotion {
+        &self.motion
+    }
+}
+
 /// One ground spring `k` and dashpot `c` of a structure: it holds DOF `dof`, its ground end
 /// moves with support `support`'s ground along direction `axis` (0, 1, 2: x, y, z).
 #[derive(Clone, Copy, Debug, PartialEq)]
