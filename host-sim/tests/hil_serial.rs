@@ -140,9 +140,11 @@ fn serial_link_over_a_pty_pair_equals_inproc_byte_for_byte() {
 
 #[test]
 fn realtime_on_a_link_too_slow_for_the_rate_fails_without_output() {
-    // Every request's first copy is dropped, so each exchange waits out the 3 ms reply timeout
-    // before its retransmission is answered: a host step (≥ 2 exchanges) takes ≥ 6 ms against
-    // its 1 ms period, and every period misses whatever the machine's load.
+    // Every request's first copy is dropped, so each exchange waits out the 20 ms reply timeout
+    // before its retransmission is answered: a host step (≥ 2 exchanges) takes ≥ 40 ms against
+    // its 1 ms period, and every period misses whatever the machine's load. The timeout is long
+    // enough that a loaded machine's firmware process still answers the retransmission within
+    // it (at 3 ms, five retries in a row once went unanswered under a parallel build).
     let tmp = tempdir("slow");
     let out = tmp.join("out");
     let (fw_end, host_end) = cable();
@@ -151,7 +153,7 @@ fn realtime_on_a_link_too_slow_for_the_rate_fails_without_output() {
     let slow = [
         "--realtime",
         "--timeout-ms",
-        "3",
+        "20",
         "--set",
         "link_fault=drop:1",
     ];
