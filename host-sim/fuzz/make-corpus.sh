@@ -27,6 +27,7 @@ seed no-irregularity paper-4.2 irregularity.enabled=false seed=7 model=rigid
 seed wheel-rail paper-5 train.kind=wheel-rail train.cars=2 'output.probes=["wheel1.force_z"]'
 seed maglev-state paper-5 train.cars=4 elements=8 law=state geometry=ems "$state" train.wheel_mass_kg=500
 seed quake-wave paper-5-quake support.spatial=wave-passage support.apparent_speed_m_per_s=400 support.synthetic.duration_s=5 support.synthetic.strong_end_s=4
+seed settled paper-5-settled support.settlement.1.dz_m=-0.02 support.settlement.1.pier=2 train.cars=4
 seed viaduct paper-5 bridge.pier.elements=8 soil.poisson=0.3 bridge.bearings.drop_m=0
 seed ground paper-5 "ground.distances_m=[12.5, 25.0]" ground.pier=20 soil.damping_ratio=0.05
 seed forces train-forces train.repeat=4 train.car_length_m=30 train.offset_y_m=1

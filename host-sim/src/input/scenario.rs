@@ -9,7 +9,7 @@ use maglev_core::{Interpolation, LawName, Scheme};
 use serde::{Deserialize, Serialize};
 
 /// Bundled scenarios: (name, TOML text).
-pub const BUNDLED: [(&str, &str); 6] = [
+pub const BUNDLED: [(&str, &str); 7] = [
     ("paper-4.2", include_str!("../../scenarios/paper-4.2.toml")),
     ("paper-5", include_str!("../../scenarios/paper-5.toml")),
     (
@@ -24,6 +24,10 @@ pub const BUNDLED: [(&str, &str); 6] = [
     (
         "paper-5-quake",
         include_str!("../../scenarios/paper-5-quake.toml"),
+    ),
+    (
+        "paper-5-settled",
+        include_str!("../../scenarios/paper-5-settled.toml"),
     ),
 ];
 
@@ -701,15 +705,40 @@ fn apply_set(table: &mut toml::Table, set: &str) -> Result<()> {
         .or_insert_with(|| toml::Value::Table(toml::Table::new()))
         .as_table_mut()
         .ok_or_else(|| Error::invalid(format!("--set {section}"), "is not a section"))?;
-    for (depth, name) in path.iter().enumerate() {
-        sec = sec
+    // A list of tables (`[[support.settlement]]`) is entered by an entry's number, from 1
+    // (`support.settlement.1.dz_m`), so a sweep can vary one key of one entry.
+    let at = |depth: usize| [&[section][..], &path[..=depth]].concat().join(".");
+    let mut names = path.iter().enumerate();
+    while let Some((depth, name)) = names.next() {
+        let value = sec
             .entry(name.to_string())
-            .or_insert_with(|| toml::Value::Table(toml::Table::new()))
-            .as_table_mut()
-            .ok_or_else(|| {
-                let at = [&[section][..], &path[..=depth]].concat().join(".");
-                Error::invalid(format!("--set {at}"), "is not a section")
-            })?;
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        let (depth, table) = match value {
+            toml::Value::Array(list) => {
+                let len = list.len();
+                let wrong = |d: usize| {
+                    Error::invalid(
+                        format!("--set {}", at(d)),
+                        format!(
+                            "{} is a list of {len} entries: name one by its number, 1 to {len}, \
+                             then its key ({}.1.KEY)",
+                            at(depth),
+                            at(depth)
+                        ),
+                    )
+                };
+                let (d, number) = names.next().ok_or_else(|| wrong(depth))?;
+                let i = number
+                    .parse::<usize>()
+                    .ok()
+                    .filter(|i| (1..=len).contains(i))
+                    .ok_or_else(|| wrong(d))?;
+                (d, list[i - 1].as_table_mut())
+            }
+            other => (depth, other.as_table_mut()),
+        };
+        sec = table
+            .ok_or_else(|| Error::invalid(format!("--set {}", at(depth)), "is not a section"))?;
     }
     // Integers given where floats are expected (speed=100) are fine for serde; floats given
     // for integers are not, which is the error we want.
@@ -745,6 +774,31 @@ mod tests {
 
     /// A key of 60 000 names once nested tables so deep that reading them overflowed the
     /// stack (an abort, found by the input fuzz target); empty names made tables named "".
+    /// `[[support.settlement]]` entries are reached by their number from 1; a number outside
+    /// the list, a name that is not a number, or the entry itself as the key is one line naming
+    /// the key and the range.
+    #[test]
+    fn a_list_entry_is_reached_by_its_number() {
+        let settled = "paper-5-settled";
+        let s = load(settled, &["support.settlement.1.dz_m=-0.03".into()]).unwrap();
+        let list = &s.support.as_ref().unwrap().settlement;
+        assert_eq!((list.len(), list[0].dz_m), (1, -0.03));
+        for (set, named) in [
+            ("support.settlement.2.dz_m=-0.03", "support.settlement.2"),
+            ("support.settlement.0.dz_m=-0.03", "support.settlement.0"),
+            ("support.settlement.x.dz_m=-0.03", "support.settlement.x"),
+            ("support.settlement.1=3", "support.settlement"),
+        ] {
+            let e = load(settled, &[set.into()]).unwrap_err().to_string();
+            assert!(e.starts_with(&format!("--set {named}:")), "{set}: {e}");
+            assert!(
+                e.contains("a list of 1 entries") && e.contains("1 to 1"),
+                "{e}"
+            );
+            assert!(!e.contains('\n'), "{e}");
+        }
+    }
+
     #[test]
     fn deep_or_empty_keys_are_refused_in_one_short_line() {
         let deep = format!("run.{}=1", vec!["a"; 60_000].join("."));
@@ -772,7 +826,7 @@ mod tests {
         for (name, text) in BUNDLED {
             let (key, bad) = match name {
                 "paper-4.2" => ("body_mass_t", "body_mass_t = \"x\""),
-                "paper-5" | "paper-5-quake" => ("cars", "cars = -3"),
+                "paper-5" | "paper-5-quake" | "paper-5-settled" => ("cars", "cars = -3"),
                 "train-forces" => ("loads_kN", "loads_kN = 5"),
                 "unit" => ("magnet_mass_kg", "magnet_mass_kg = true"),
                 _ => ("force_kN", "force_kN = [1]"),
