@@ -46,13 +46,14 @@
 //!
 //! **What a gap law leaves (`law = "state"`, `gap-loop`; geometry `ems`).** Both hold the gap
 //! (the state law with an integral on the gap, the gap loop through the inner law's integral
-//! on its reference, docs/gap-loop.md). With the magnet force a function of the gap error
-//! only, m·z̈ = ΔG(Δh) and Δh = −(z − z_g) give m·Δḧ + (the law's response to Δh) = m·z̈_g:
-//! the rail enters only through its acceleration. On a constant slope z̈_g = 0, so no steady
+//! on its reference, docs/gap-loop.md). Both measure the gap (the state law also the magnet's
+//! own acceleration z̈): with z = z_g − Δh, the magnet's m·z̈ = ΔG(Δh, Δḣ, z̈, …) becomes
+//! m·Δḧ + (the law's response to Δh) = m·z̈_g (and z̈ = z̈_g − Δḧ in the law): the rail enters
+//! only through its acceleration. On a constant slope z̈_g = 0, so no steady
 //! gap error remains; what remains is the response to the slope changes (z̈_g = v·Δs·δ(t − t_k)
 //! at x = 0, L, 2L), an impulse response scaled by v, which shrinks in proportion to the
 //! speed. Checked: the peak |Δh| within 1 % of δ at a stated slow speed (state law 5 m/s, gap
-//! loop 1 m/s; the gap loop's slowest poles, −3.1 s⁻¹, are slower than the state law's), the
+//! loop 1 m/s: per m/s the gap loop's transient is about 50 times the state law's), the
 //! magnet following the settled rail (|Δz − z_s(x)| within 1 % of δ), and the peak twice as
 //! large at twice the speed (within 5 %), the transient's linear scaling. Measured: state law
 //! 7.9e-4 δ at 5 m/s (1.58e-3 δ at 10 m/s, ratio 2.005), gap loop 8.56e-3 δ at 1 m/s
