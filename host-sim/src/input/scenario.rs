@@ -653,8 +653,9 @@ fn full_key(key: &str) -> &str {
         .map_or(key, |(_, f)| *f)
 }
 
-/// Most names a `--set` key joins by dots: one more than the deepest key today
-/// (`bridge.pier.height_m`), so a sub-table added later still fits. A deeper key is refused
+/// Most names a `--set` key joins by dots: one more than the deepest table key today
+/// (`bridge.pier.height_m`), so a sub-table added later still fits; a list entry's key
+/// (`support.settlement.1.dz_m`) takes them all. A deeper key is refused
 /// before any table is made: one of 60 000 names nested tables that deep and overflowed the
 /// stack when they were read (the input fuzz target's finding).
 pub const MAX_KEY_PARTS: usize = 4;
@@ -772,8 +773,6 @@ mod tests {
         assert!(e.contains("paper-4.2"), "{e}");
     }
 
-    /// A key of 60 000 names once nested tables so deep that reading them overflowed the
-    /// stack (an abort, found by the input fuzz target); empty names made tables named "".
     /// `[[support.settlement]]` entries are reached by their number from 1; a number outside
     /// the list, a name that is not a number, or the entry itself as the key is one line naming
     /// the key and the range.
@@ -799,6 +798,8 @@ mod tests {
         }
     }
 
+    /// A key of 60 000 names once nested tables so deep that reading them overflowed the
+    /// stack (an abort, found by the input fuzz target); empty names made tables named "".
     #[test]
     fn deep_or_empty_keys_are_refused_in_one_short_line() {
         let deep = format!("run.{}=1", vec!["a"; 60_000].join("."));
