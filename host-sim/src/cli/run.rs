@@ -17,9 +17,9 @@ use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// A scenario TOML file, or a bundled name (paper-4.2, paper-5, train-forces,
-    /// moving-force). Every section and key, with its unit, default and accepted range:
-    /// docs/scenarios.md.
+    /// A scenario TOML file, or a bundled name (paper-4.2, paper-5, paper-5-quake,
+    /// paper-5-settled, train-forces, moving-force, unit). Every section and key, with its
+    /// unit, default and accepted range: docs/scenarios.md.
     pub scenario: String,
     /// Override a scenario value: train, speed, model, elements, modes, dt, t_end, nsub, alpha,
     /// law, scheme, seed, geometry, or section.key (repeatable).
@@ -198,4 +198,30 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     Ok(check_converged(&outcome)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Args;
+    use crate::input::scenario::BUNDLED;
+    use clap::Args as _;
+
+    /// `maglev run --help` names every bundled scenario (the list is written by hand in the
+    /// argument's doc comment, so a new scenario must be added there too).
+    #[test]
+    fn the_help_names_every_bundled_scenario() {
+        let cmd = Args::augment_args(clap::Command::new("run"));
+        let help = cmd
+            .get_arguments()
+            .find(|a| a.get_id() == "scenario")
+            .and_then(|a| a.get_help())
+            .map(|h| h.to_string())
+            .unwrap_or_default();
+        let words: Vec<&str> = help
+            .split(|c: char| c.is_whitespace() || ",()".contains(c))
+            .collect();
+        for (name, _) in BUNDLED {
+            assert!(words.contains(&name), "`{name}` missing from: {help}");
+        }
+    }
 }
