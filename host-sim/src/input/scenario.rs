@@ -711,6 +711,19 @@ fn apply_set(table: &mut toml::Table, set: &str) -> Result<()> {
     let at = |depth: usize| [&[section][..], &path[..=depth]].concat().join(".");
     let mut names = path.iter().enumerate();
     while let Some((depth, name)) = names.next() {
+        let next = path.get(depth + 1).copied().unwrap_or(leaf);
+        if !sec.contains_key(*name) && next.parse::<usize>().is_ok() {
+            return Err(Error::invalid(
+                format!("--set {}", at(depth)),
+                format!(
+                    "the scenario has no list {} to take entry {next} of (a list entry is set \
+                     by its number only where the scenario writes the list, e.g. \
+                     [[{}]])",
+                    at(depth),
+                    at(depth)
+                ),
+            ));
+        }
         let value = sec
             .entry(name.to_string())
             .or_insert_with(|| toml::Value::Table(toml::Table::new()));
@@ -796,6 +809,15 @@ mod tests {
             );
             assert!(!e.contains('\n'), "{e}");
         }
+        // Where the scenario has no list, a number after its name is refused naming the list.
+        let e = load("paper-5", &["support.settlement.1.dz_m=-0.03".into()])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("--set support.settlement:") && e.contains("no list"),
+            "{e}"
+        );
+        assert!(!e.contains('\n'), "{e}");
     }
 
     /// A key of 60 000 names once nested tables so deep that reading them overflowed the
