@@ -70,6 +70,12 @@ pub(super) fn within(key: &str, v: f64, lo: f64, hi: f64, why: &str) -> Result<f
     }
 }
 
+/// [`positive`], then [`within`]: the two checks of a positive key with a plausible range, in
+/// that order, naming `key` once.
+pub(super) fn positive_within(key: &str, v: f64, lo: f64, hi: f64, why: &str) -> Result<f64> {
+    within(key, positive(key, v)?, lo, hi, why)
+}
+
 pub(super) fn at_least(key: &str, v: usize, min: usize) -> Result<usize> {
     if v >= min {
         Ok(v)

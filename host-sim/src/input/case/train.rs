@@ -1,7 +1,7 @@
 //! `[vehicle]` / `[train]` in SI: what runs over the guideway, by kind, each kind's keys
 //! converted and checked once, and how far the train reaches (for t_end and the budget).
 
-use super::checks::{bounded, finite, non_negative, positive, within};
+use super::checks::{bounded, finite, non_negative, positive, positive_within, within};
 use crate::input::scenario::{
     Fig1Keys, ForcesKeys, MaglevKeys, MovingForceKeys, UnitKeys, VehicleSection, WheelRailKeys,
 };
@@ -142,14 +142,7 @@ fn fig1(k: &Fig1Keys) -> Result<(TrainCase, Geometry)> {
     // A body lighter than 1 kg (or an inertia under 1 kg·m²) leaves its effective
     // stiffness singular to f64 beside the suspension's.
     let body = |key: &str, v: f64, unit: &str| {
-        within(
-            key,
-            positive(key, v)?,
-            1e-3,
-            1e6,
-            &format!("{unit}: 1 kg to 1000 cars"),
-        )
-        .map(|v| v * 1e3)
+        positive_within(key, v, 1e-3, 1e6, &format!("{unit}: 1 kg to 1000 cars")).map(|v| v * 1e3)
     };
     let car = Fig1 {
         body_mass: body("vehicle.body_mass_t", k.body_mass_t, "t")?,
@@ -158,9 +151,9 @@ fn fig1(k: &Fig1Keys) -> Result<(TrainCase, Geometry)> {
         jz: body("vehicle.jz_t_m2", k.jz_t_m2, "t·m²")?,
         k: kilo("vehicle.spring_kN_per_m", k.spring_kN_per_m)?,
         c: kilo("vehicle.damper_kN_s_per_m", k.damper_kN_s_per_m)?,
-        half_length: within(
+        half_length: positive_within(
             "vehicle.half_length_m",
-            positive("vehicle.half_length_m", k.half_length_m)?,
+            k.half_length_m,
             0.05,
             100.0,
             "m: a bogie's half wheelbase to a long car's",

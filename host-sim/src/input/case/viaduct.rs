@@ -4,7 +4,7 @@
 //!
 //! [`BeamSectionKeys::resolve`]: crate::input::scenario::BeamSectionKeys::resolve
 
-use super::checks::{bounded, finite, non_negative, positive, within};
+use super::checks::{bounded, finite, non_negative, positive, positive_within, within};
 use crate::ground::green::{MAX_DAMPING, MIN_DAMPING};
 use crate::input::scenario::{BridgeKind, BridgeSection, GroundSection, SoilSection};
 use crate::input::support::SupportSection;
@@ -66,20 +66,13 @@ pub(super) fn viaduct(
     // Below 1 kN/m a bearing holds nothing (the span's weight would sink it by kilometres) and
     // the viaduct's stiffness is singular to f64; elastomeric and pot bearings are 1e5–1e7.
     let bearing = |key: &str, v: f64| {
-        within(
-            key,
-            positive(key, v)?,
-            1.0,
-            1e9,
-            "kN/m: 1 kN/m holds no span",
-        )
-        .map(|v| v * 1e3)
+        positive_within(key, v, 1.0, 1e9, "kN/m: 1 kN/m holds no span").map(|v| v * 1e3)
     };
     let bearings = BearingSpec {
         vertical: bearing("bridge.bearings.vertical_kN_per_m", be.vertical_kN_per_m)?,
-        spacing: within(
+        spacing: positive_within(
             "bridge.bearings.spacing_m",
-            positive("bridge.bearings.spacing_m", be.spacing_m)?,
+            be.spacing_m,
             0.1,
             100.0,
             "m: the two bearings of an end stand under the girder",
@@ -100,9 +93,9 @@ pub(super) fn viaduct(
     let p = b.pier.as_ref().ok_or_else(|| need("pier"))?;
     let pier = PierSpec {
         section: p.section.resolve("bridge.pier")?,
-        height: within(
+        height: positive_within(
             "bridge.pier.height_m",
-            positive("bridge.pier.height_m", p.height_m)?,
+            p.height_m,
             0.5,
             300.0,
             "m: a plinth to the tallest viaduct piers (under 250 m)",
@@ -136,16 +129,9 @@ pub(super) fn viaduct(
 /// A footing's plan dimension (m): at least 0.1 m (a smaller one has no stiffness in f64) and at
 /// most 100 m.
 fn footing_size(key: &str, v: f64) -> Result<f64> {
-    within(
-        key,
-        positive(key, v)?,
-        0.1,
-        100.0,
-        "m: a post's base to a raft",
-    )
+    positive_within(key, v, 0.1, 100.0, "m: a post's base to a raft")
 }
 
-/// `[soil]` in SI, checked: one soil for the footings and the ground.
 /// The largest ground-record file `[support]` reads (16 MiB: about 400 000 rows, over half an
 /// hour at 5 ms).
 pub const MAX_RECORD_BYTES: u64 = 16 << 20;
@@ -193,6 +179,7 @@ fn record_text(path: &str) -> Result<String> {
     crate::input::read_text(p)
 }
 
+/// `[soil]` in SI, checked: one soil for the footings and the ground.
 pub(super) fn soil(s: &SoilSection) -> Result<Soil> {
     let poisson = s.poisson;
     if !(0.0..0.5).contains(&poisson) {
@@ -212,19 +199,16 @@ pub(super) fn soil(s: &SoilSection) -> Result<Soil> {
         }
     };
     Ok(Soil {
-        shear_wave_velocity: within(
+        shear_wave_velocity: positive_within(
             "soil.shear_wave_velocity_m_per_s",
-            positive(
-                "soil.shear_wave_velocity_m_per_s",
-                s.shear_wave_velocity_m_per_s,
-            )?,
+            s.shear_wave_velocity_m_per_s,
             10.0,
             5000.0,
             "m/s: peat (about 30) to hard rock (about 3500)",
         )?,
-        density: within(
+        density: positive_within(
             "soil.density_t_per_m3",
-            positive("soil.density_t_per_m3", s.density_t_per_m3)?,
+            s.density_t_per_m3,
             0.5,
             5.0,
             "t/m³: peat (about 1) to dense rock (about 3)",

@@ -62,13 +62,11 @@ pub struct SpanModel {
     pub m: SymBanded,
     /// The inertia of each bearing's rigid-body shape, `M r_j` on the free DOFs with M the
     /// mass of every DOF (supported ones too, so the mass coupling to the bearings counts):
-    /// j as in [`Self::bearing_shape`] (docs/seismic.md Eq. S4).
+    /// j as in [`bearing_shape`] (docs/seismic.md Eq. S4).
     pub bearing_inertia: [DVector<f64>; BEARINGS],
 }
 
-/// The bearing motions a span follows: z at its left and right ends, then y at its left and
-/// right ends ([`SpanModel::bearing_shape`]).
-pub const BEARINGS: usize = 4;
+pub use crate::physics::seismic::support::BEARINGS;
 
 impl SpanModel {
     /// Assemble `elements` equal Timoshenko elements over a span of `length`.
@@ -165,17 +163,6 @@ impl SpanModel {
             k,
             m,
             bearing_inertia,
-        })
-    }
-
-    /// The rigid-body shape r_j of bearing motion j ([`BEARINGS`]) on the free DOFs: the
-    /// span's displacement when that bearing moves by 1 m and the other stays (w or v linear
-    /// between the bearings, θy = −∂w/∂x, θz = ∂v/∂x; no strain, so no force).
-    pub fn bearing_shape(&self, j: usize) -> DVector<f64> {
-        DVector::from_fn(self.free_dofs(), |f, _| {
-            let i = self.full_index[f];
-            let x = self.nodes[i / DOFS_PER_NODE];
-            bearing_shape(j, x / self.length, self.length)[i % DOFS_PER_NODE]
         })
     }
 
@@ -338,7 +325,9 @@ impl SpanModel {
 }
 
 /// The six DOFs of a node at ξ = x/L of a span of `length` under bearing motion j
-/// ([`BEARINGS`]): the quasi-static rigid-body motion of Eq. S3 (docs/seismic.md).
+/// ([`BEARINGS`]): the quasi-static rigid-body motion of Eq. S3 (docs/seismic.md), the span's
+/// displacement when that bearing moves by 1 m and the others stay (w or v linear between the
+/// bearings, θy = −∂w/∂x, θz = ∂v/∂x; no strain, so no force).
 fn bearing_shape(j: usize, xi: f64, length: f64) -> [f64; DOFS_PER_NODE] {
     let mut d = [0.0; DOFS_PER_NODE];
     let (value, slope) = match j % 2 {

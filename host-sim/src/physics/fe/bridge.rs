@@ -39,13 +39,12 @@
 //! absolute (Eq. S3). Without it the spans are what they were, bit for bit.
 
 use super::assembly::SpanModel;
-use super::assembly::BEARINGS;
 use super::cholesky::{Scratch, SparseCholesky};
 use super::flexibility::{Flexibility, HotRows, LoadSupport};
 use super::modal_basis::ModalBasis;
 use super::newmark::{effective_stiffness, rayleigh_matrix, Rayleigh, SpanNewmark, State};
 use crate::physics::guideway::{Bridge, Guideway, PointLoad, PointMotion, SectionMotion};
-use crate::physics::seismic::support::{GroundState, GroundTrack, SupportMotion, AXES};
+use crate::physics::seismic::support::{GroundState, GroundTrack, SupportMotion};
 use crate::Error;
 use maglev_core::gap::{ElementVector, WheelShape, ELEMENT_DOFS};
 use nalgebra::DVector;
@@ -473,19 +472,11 @@ impl FeGuideway {
     ) -> crate::Result<Self> {
         let mut g = Self::with_damping(bridge, elements_per_span, dt, damping)?;
         let supports = g.spans.len() + 1;
-        if motion.supports() != supports {
-            return Err(Error::invalid(
-                "support",
-                format!(
-                    "gives the motion of {} supports, the spans have {supports}",
-                    motion.supports()
-                ),
-            ));
-        }
+        let track = GroundTrack::new(motion, supports, &format!("the spans have {supports}"))?;
         for s in &mut g.spans {
             s.ground = DVector::zeros(s.load.len());
         }
-        g.drive = Some(GroundTrack::new(motion));
+        g.drive = Some(track);
         Ok(g)
     }
 
@@ -503,9 +494,8 @@ impl FeGuideway {
             return;
         }
         track.prepare(self.dt);
-        let ground = track.trial();
         for (i, span) in self.spans.iter_mut().enumerate() {
-            let a = bearing_values(&ground[i].a, &ground[i + 1].a);
+            let a = track.bearing_accelerations(i);
             let inertia = &self.systems[span.system].model.bearing_inertia;
             span.ground.fill(0.0);
             for (m, a) in inertia.iter().zip(a) {
@@ -517,18 +507,12 @@ impl FeGuideway {
         }
     }
 
-    /// The quasi-static rigid-body motion (y, z) at global `x` on the trial ground (Eq. S3);
-    /// zero without support motion or off the bridge.
-    fn rigid_body(&self, x: f64) -> (f64, f64) {
-        match (&self.drive, self.find(x)) {
-            (Some(track), Some((i, local))) => {
-                let g = track.trial();
-                let xi = local / self.span_model(i).length;
-                let at = |axis: usize| (1.0 - xi) * g[i].d[axis] + xi * g[i + 1].d[axis];
-                (at(1), at(2))
-            }
-            _ => (0.0, 0.0),
-        }
+    /// The quasi-static rigid-body motion (y, z) at `local` on span `i` (Eq. S3); zero without
+    /// support motion.
+    fn rigid_body(&self, i: usize, local: f64) -> (f64, f64) {
+        self.drive.as_ref().map_or((0.0, 0.0), |track| {
+            track.rigid_body(i, local / self.span_model(i).length)
+        })
     }
 
     /// Advance the spans of each step on rayon's thread pool (off by default). Results are
@@ -790,7 +774,9 @@ impl Guideway for FeGuideway {
         if self.drive.is_none() {
             return relative;
         }
-        let (y, z) = self.rigid_body(x);
+        let (y, z) = self
+            .find(x)
+            .map_or((0.0, 0.0), |(i, local)| self.rigid_body(i, local));
         PointMotion {
             y: relative.y + y,
             z: relative.z + z,
@@ -798,32 +784,33 @@ impl Guideway for FeGuideway {
     }
 
     fn section_at(&self, x: f64) -> SectionMotion {
-        let relative = self
-            .find(x)
-            .and_then(|(i, local)| {
-                let span = &self.spans[i];
-                let sys = &self.systems[span.system];
-                match span.mid {
-                    (mid, Some((e, ref s))) if mid == local => {
-                        // At a node only that node's translations and twist count.
-                        let used = |k: usize| s.z[k] != 0.0 || s.y[k] != 0.0 || s.rx[k] != 0.0;
-                        let de = *span
-                            .mid_value
-                            .get_or_init(|| span.element_where(sys, e, used));
-                        Some(SectionMotion {
-                            y: s.y_at(&de),
-                            z: s.z_at(&de),
-                            rx: s.rx_at(&de),
-                        })
-                    }
-                    _ => sys.model.section_with(local, |e| span.element(sys, e)),
+        let Some((i, local)) = self.find(x) else {
+            return SectionMotion::default();
+        };
+        let relative = {
+            let span = &self.spans[i];
+            let sys = &self.systems[span.system];
+            match span.mid {
+                (mid, Some((e, ref s))) if mid == local => {
+                    // At a node only that node's translations and twist count.
+                    let used = |k: usize| s.z[k] != 0.0 || s.y[k] != 0.0 || s.rx[k] != 0.0;
+                    let de = *span
+                        .mid_value
+                        .get_or_init(|| span.element_where(sys, e, used));
+                    Some(SectionMotion {
+                        y: s.y_at(&de),
+                        z: s.z_at(&de),
+                        rx: s.rx_at(&de),
+                    })
                 }
-            })
-            .unwrap_or_default();
+                _ => sys.model.section_with(local, |e| span.element(sys, e)),
+            }
+        }
+        .unwrap_or_default();
         if self.drive.is_none() {
             return relative;
         }
-        let (y, z) = self.rigid_body(x);
+        let (y, z) = self.rigid_body(i, local);
         SectionMotion {
             y: relative.y + y,
             z: relative.z + z,
@@ -852,10 +839,4 @@ impl Guideway for FeGuideway {
             track.commit();
         }
     }
-}
-
-/// The values of the bearing motions ([`BEARINGS`]) of a span from its left and right
-/// supports' (x, y, z) values: z left, z right, y left, y right.
-fn bearing_values(left: &[f64; AXES], right: &[f64; AXES]) -> [f64; BEARINGS] {
-    [left[2], right[2], left[1], right[1]]
 }

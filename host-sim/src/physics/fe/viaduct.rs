@@ -393,15 +393,7 @@ impl Viaduct {
     ) -> crate::Result<Self> {
         let mut v = Self::new(spec, dt)?;
         let piers = v.pier_count();
-        if motion.supports() != piers {
-            return Err(Error::invalid(
-                "support",
-                format!(
-                    "gives the motion of {} supports, the viaduct has {piers} piers",
-                    motion.supports()
-                ),
-            ));
-        }
+        let track = GroundTrack::new(motion, piers, &format!("the viaduct has {piers} piers"))?;
         let beta = match spec.damping {
             Some(r) if r.alpha != 0.0 => {
                 return Err(Error::invalid(
@@ -433,7 +425,6 @@ impl Viaduct {
                 })
             })
             .collect();
-        let track = GroundTrack::new(motion);
         // The settled shape: K d = K_g u_g (the ground at rest, v_g = 0).
         let mut d = DVector::zeros(v.structure.dofs());
         add_ground_loads(&links, track.committed(), d.as_mut_slice());

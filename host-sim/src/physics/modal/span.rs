@@ -13,6 +13,7 @@ use super::modes::{
 use crate::physics::guideway::{
     BeamSection, Bridge, Guideway, PointLoad, PointMotion, SectionMotion,
 };
+use crate::physics::seismic::support::BEARINGS;
 
 /// Why a [`ModalGuideway`] could not be built.
 #[derive(Clone, Debug, PartialEq)]
@@ -84,7 +85,7 @@ pub struct ModalGuideway {
     forces: Vec<ModalForce>,
     /// Bearing accelerations of the next steps (z left, z right, y left, y right; m/s²),
     /// set by [`Self::set_bearing_acceleration`]; zero otherwise.
-    bearings: [f64; 4],
+    bearings: [f64; BEARINGS],
 }
 
 impl ModalGuideway {
@@ -232,7 +233,7 @@ impl ModalGuideway {
     /// rigid-body motion between its bearings, driven by that motion's inertia (Eq. S5,
     /// [`bearing_force`]). The rigid-body motion itself is the caller's to add
     /// ([`super::ModalSpans`]).
-    pub fn set_bearing_acceleration(&mut self, a: [f64; 4]) {
+    pub fn set_bearing_acceleration(&mut self, a: [f64; BEARINGS]) {
         self.bearings = a;
     }
 

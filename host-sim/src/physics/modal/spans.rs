@@ -77,16 +77,8 @@ impl ModalSpans {
     ) -> crate::Result<Self> {
         let mut s = Self::new(bridge, modes, dt).map_err(|e| Error::numerical(e.to_string()))?;
         let supports = s.spans.len() + 1;
-        if motion.supports() != supports {
-            return Err(Error::invalid(
-                "support",
-                format!(
-                    "gives the motion of {} supports, the spans have {supports}",
-                    motion.supports()
-                ),
-            ));
-        }
-        s.drive = Some(GroundTrack::new(motion));
+        let track = GroundTrack::new(motion, supports, &format!("the spans have {supports}"))?;
+        s.drive = Some(track);
         Ok(s)
     }
 
@@ -99,12 +91,7 @@ impl ModalSpans {
     /// ground (Eq. S3); zero without support motion.
     fn rigid_body(&self, i: usize, x: f64) -> (f64, f64) {
         match &self.drive {
-            Some(track) => {
-                let g = track.trial();
-                let xi = x / self.spans[i].1.length();
-                let at = |axis: usize| (1.0 - xi) * g[i].d[axis] + xi * g[i + 1].d[axis];
-                (at(1), at(2))
-            }
+            Some(track) => track.rigid_body(i, x / self.spans[i].1.length()),
             None => (0.0, 0.0),
         }
     }
@@ -135,10 +122,8 @@ impl Guideway for ModalSpans {
     fn solve_step(&mut self, loads: &[PointLoad]) {
         if let Some(track) = &mut self.drive {
             track.prepare(self.dt);
-            let a = track.trial();
             for (i, (_, g)) in self.spans.iter_mut().enumerate() {
-                let (l, r) = (a[i].a, a[i + 1].a);
-                g.set_bearing_acceleration([l[2], r[2], l[1], r[1]]);
+                g.set_bearing_acceleration(track.bearing_accelerations(i));
             }
         }
         for (start, g) in &mut self.spans {

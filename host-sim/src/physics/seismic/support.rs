@@ -27,6 +27,10 @@ use crate::Error;
 /// Directions of a record's components: x along the line, y across it, z up.
 pub const AXES: usize = 3;
 
+/// The bearing motions a simply supported span on rigid supports takes (docs/seismic.md
+/// "Spans on rigid supports"): z at its left and right ends, then y at both.
+pub const BEARINGS: usize = 4;
+
 /// A ground-acceleration record: samples `(a_x, a_y, a_z)` (m/s²) at t = 0, Δt, 2Δt, …
 #[derive(Clone, Debug, PartialEq)]
 pub struct GroundRecord {
@@ -321,18 +325,40 @@ pub struct GroundTrack {
 }
 
 impl GroundTrack {
-    /// At t = 0 (module docs).
-    pub fn new(motion: SupportMotion) -> Self {
-        let ground: Vec<GroundState> = (0..motion.supports())
+    /// The bearing motions of span `span` (on supports `span` and `span + 1`) from the trial
+    /// ground's accelerations, in the order of [`BEARINGS`]: z left, z right, y left, y right.
+    pub fn bearing_accelerations(&self, span: usize) -> [f64; BEARINGS] {
+        let (l, r) = (&self.trial[span].a, &self.trial[span + 1].a);
+        [l[2], r[2], l[1], r[1]]
+    }
+
+    /// The quasi-static rigid-body motion (y, z) of span `span` at `xi` = x/L along it on the
+    /// trial ground (Eq. S3): linear between its two supports.
+    pub fn rigid_body(&self, span: usize, xi: f64) -> (f64, f64) {
+        let g = &self.trial;
+        let at = |axis: usize| (1.0 - xi) * g[span].d[axis] + xi * g[span + 1].d[axis];
+        (at(1), at(2))
+    }
+
+    /// At t = 0 (module docs), for a structure with `supports` supports; `motion` must give
+    /// that many, else one line naming `support` and saying what the structure `has`.
+    pub fn new(motion: SupportMotion, supports: usize, has: &str) -> crate::Result<Self> {
+        if motion.supports() != supports {
+            return Err(Error::invalid(
+                "support",
+                format!("gives the motion of {} supports, {has}", motion.supports()),
+            ));
+        }
+        let ground: Vec<GroundState> = (0..supports)
             .map(|k| GroundState::at(motion.settlement(k), motion.acceleration(k, 0.0)))
             .collect();
-        GroundTrack {
+        Ok(GroundTrack {
             motion,
             trial: ground.clone(),
             committed: ground,
             steps: 0,
             trial_valid: false,
-        }
+        })
     }
 
     /// The ground at the end of the current step (Eq. S2; computed once per step). No
@@ -364,11 +390,6 @@ impl GroundTrack {
     /// (what a trial state is read against).
     pub fn trial(&self) -> &[GroundState] {
         &self.trial
-    }
-
-    /// The motion it follows.
-    pub fn motion(&self) -> &SupportMotion {
-        &self.motion
     }
 }
 
