@@ -10,6 +10,9 @@
 //!   kinematics in closed form;
 //! - a settled pier: the girders over it take their rigid-body tilt.
 
+mod dense_newmark;
+
+use dense_newmark::dense_newmark;
 use maglev_host_sim::input::support::SupportSection;
 use maglev_host_sim::physics::fe::newmark::{Rayleigh, SpanNewmark, State};
 use maglev_host_sim::physics::fe::structure::{Builder, NodeKind};
@@ -120,32 +123,6 @@ fn sdof_under_harmonic_support_motion_matches_closed_form() {
             peak[i]
         );
         assert!(rel < 1e-6, "direction {i}: {rel}");
-    }
-}
-
-/// Dense average-acceleration Newmark of M ẍ + C ẋ + K x = F(t_n) from rest, written here
-/// independently of the code's (LU of the dense effective stiffness).
-fn dense_newmark(
-    k: &DMatrix<f64>,
-    m: &DMatrix<f64>,
-    c: &DMatrix<f64>,
-    dt: f64,
-    steps: usize,
-    load: impl Fn(usize) -> DVector<f64>,
-    mut each: impl FnMut(usize, &DVector<f64>),
-) {
-    let (a0, a1, a2) = (4.0 / (dt * dt), 2.0 / dt, 4.0 / dt);
-    let keff = (k + m * a0 + c * a1).lu();
-    let n = k.nrows();
-    let (mut d, mut v, mut a) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
-    for step in 1..=steps {
-        let f = load(step) + m * (&d * a0 + &v * a2 + &a) + c * (&d * a1 + &v);
-        let d1 = keff.solve(&f).unwrap();
-        let acc1 = (&d1 - &d) * a0 - &v * a2 - &a;
-        v += (&a + &acc1) * (dt / 2.0);
-        a = acc1;
-        d = d1;
-        each(step, &d);
     }
 }
 
