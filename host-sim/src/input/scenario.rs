@@ -786,6 +786,36 @@ mod tests {
         assert!(e.contains("paper-4.2"), "{e}");
     }
 
+    /// `paper-5-quake` and `paper-5-settled` write out paper-5's viaduct and run again (a
+    /// bundled scenario is one self-contained file): they must stay paper-5's. The quake one
+    /// differs only by `[support]`; the settled one also runs its own train and law.
+    #[test]
+    fn the_paper_5_variants_keep_paper_5s_viaduct() {
+        let table = |name: &str| -> toml::Table {
+            toml::from_str(BUNDLED.iter().find(|(n, _)| *n == name).unwrap().1).unwrap()
+        };
+        let p5 = table("paper-5");
+        for (name, own) in [
+            ("paper-5-quake", &["support"][..]),
+            (
+                "paper-5-settled",
+                &["support", "train", "controller", "output"][..],
+            ),
+        ] {
+            let v = table(name);
+            let keys: std::collections::BTreeSet<&String> = p5.keys().chain(v.keys()).collect();
+            for key in keys {
+                if !own.contains(&key.as_str()) {
+                    assert_eq!(
+                        p5.get(key),
+                        v.get(key),
+                        "{name}: [{key}] differs from paper-5"
+                    );
+                }
+            }
+        }
+    }
+
     /// `[[support.settlement]]` entries are reached by their number from 1; a number outside
     /// the list, a name that is not a number, or the entry itself as the key is one line naming
     /// the key and the range.
