@@ -1,5 +1,5 @@
 //! An independent implementation of the Fig. 1 vehicle on a rigid rail (docs/model.md §2,
-//! §4, §6, §9), written from the model page, never from `maglev_host_sim`: the equations of
+//! §4, §6, §9), written from the model page, never from `maglev_sim`: the equations of
 //! motion by hand, the controllers in continuous time, classical RK4 at a small fixed step.
 //!
 //! Why this shape: `maglev run --set model=rigid` assembles the vehicle from Eq. 17/18

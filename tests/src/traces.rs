@@ -1,6 +1,6 @@
 //! Canned gap traces (SI): constant, step and sinusoidal gaps around the paper's h0 = 10 mm.
 
-use maglev_host_sim::studies::control::Trace;
+use maglev_sim::studies::control::Trace;
 
 fn make(dt: f64, steps: usize, h: impl Fn(f64) -> f64) -> Trace {
     let t: Vec<f64> = (0..=steps).map(|k| k as f64 * dt).collect();

@@ -9,7 +9,7 @@
 //! small against the error being judged for the comparison to mean anything (asserted).
 
 use maglev_core::{Interpolation, Params, Scheme};
-use maglev_host_sim::studies::control::{run_trace_as, Row, ScalarKind, Trace};
+use maglev_sim::studies::control::{run_trace_as, Row, ScalarKind, Trace};
 use maglev_tests::traces;
 
 fn params(dt: f64, scheme: Scheme, n_sub: u32, interp: Interpolation) -> Params {

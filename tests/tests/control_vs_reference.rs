@@ -2,7 +2,7 @@
 //! implementation of docs/model.md §4, and the fixed-point types against f64.
 
 use maglev_core::{Interpolation, Params};
-use maglev_host_sim::studies::control::{run_trace_as, Row, ScalarKind, Trace};
+use maglev_sim::studies::control::{run_trace_as, Row, ScalarKind, Trace};
 use maglev_tests::control_reference::{self as reference, RefParams};
 use maglev_tests::traces;
 

@@ -1,16 +1,17 @@
 //! FE against the modal Timoshenko reference through the whole host pipeline (scenario →
 //! simulation → records): a moving constant force and a short coupled maglev run.
 
-use maglev_host_sim::input::case::Case;
-use maglev_host_sim::probes::{Probes, Rows};
-use maglev_host_sim::setup::{simulate, Controllers};
+use maglev_sim::input::case::Case;
+use maglev_sim::probes::{Probes, Rows};
+use maglev_sim::setup::simulate;
+use maglev_sim::simulation::magnets::CoreMagnets;
 
 /// The run's default columns (midspan and wheel 1), step by step.
 fn run(name: &str, sets: &[&str]) -> Rows {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     let case = Case::load(name, &sets).unwrap();
     let mut rows = Rows::new(Probes::default_columns());
-    let o = simulate(&case, Controllers::Core, &mut rows, |_| {})
+    let o = simulate(&case, &mut CoreMagnets::new(), &mut rows, &mut ())
         .unwrap()
         .outcome;
     assert_eq!(o.unconverged_steps, 0);
@@ -76,7 +77,7 @@ fn midspans(sets: &[&str]) -> Vec<Vec<f64>> {
     );
     let case = Case::load("moving-force", &all).unwrap();
     let mut rows = Rows::new(case.probes.clone());
-    simulate(&case, Controllers::Core, &mut rows, |_| {}).unwrap();
+    simulate(&case, &mut CoreMagnets::new(), &mut rows, &mut ()).unwrap();
     (1..=3)
         .map(|k| rows.column(&format!("span{k}.midspan.z")).unwrap())
         .collect()

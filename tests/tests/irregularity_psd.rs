@@ -41,7 +41,7 @@
 
 use maglev_core::irregularity::{Direction, Irregularity, PsdParams};
 use maglev_core::irregularity_fast::Table;
-use maglev_host_sim::physics::profile::sweep;
+use maglev_sim::physics::profile::sweep;
 use std::f64::consts::PI;
 
 const DX: f64 = 0.1;

@@ -2,7 +2,7 @@
 //! `maglev_tests::rigid_vehicle_reference` (docs/model.md §2, §4, §6, §9), fed the run's own
 //! `profile.csv`, at 10, 100 and 150 m/s.
 //!
-//! The run goes through `maglev_host_sim::cli::run::run`, the `maglev run` command itself
+//! The run goes through `maglev::cli::run::run`, the `maglev run` command itself
 //! (scenario, `--set`, `--strict`, the files it writes); the test reads back only what a user
 //! gets: `response.csv`, `profile.csv` and `summary.json`.
 //!
@@ -59,8 +59,8 @@
 //! against the reference's too, and the physical facts: no collision step, every gap within
 //! (0.5·h0, 1.5·h0), every step converged.
 
-use maglev_host_sim::cli::run::{run, Args};
-use maglev_host_sim::input::scenario;
+use maglev::cli::run::{run, Args};
+use maglev_sim::input::scenario;
 use maglev_tests::rigid_vehicle_reference::{simulate, Interp, Params, Profile, Row};
 use std::path::Path;
 

@@ -1,0 +1,385 @@
+//! The ideal magnets of `maglev run`: per wheel the core's levitation law and guidance pair in
+//! f64 on the exact gaps at the end of each step — the paper's scheme, with its internal loop
+//! (`n_sub`) interpolating the gap inside the step — under any [`maglev_core::Law`]. Calls the
+//! core; never a host copy of a law.
+
+use super::{Coil, Magnets, Settings, Start, WheelGaps};
+use crate::physics::vehicle::Train;
+use crate::{Error, Result};
+use maglev_core::gap::Geometry;
+use maglev_core::guidance;
+use maglev_core::levitation::batch::update_batch;
+use maglev_core::levitation::GRAVITY;
+use maglev_core::levitation::{Output, State};
+use maglev_core::{Law, LawParams, LawState, Levitation, Measurement, Status};
+
+struct WheelCtl {
+    /// The law of the wheel's three magnets.
+    law: Law<f64>,
+    /// The levitation magnet's state.
+    lev_state: LawState<f64>,
+    /// The guidance pair's states, `[left, right]`.
+    pair: [LawState<f64>; 2],
+}
+
+/// The trial state of a step, if any.
+#[derive(Clone, Copy, Default, PartialEq)]
+enum Pending {
+    #[default]
+    None,
+    /// In `mag_st` ([`CoreMagnets::paper_batch`]).
+    Batch,
+    /// In `trial`.
+    General,
+}
+
+/// The core's controllers of every wheel, committed and trial states. [`CoreMagnets::new`]
+/// makes them for no wheel; [`Magnets::start`] for the run's train.
+#[derive(Default)]
+pub struct CoreMagnets {
+    ctl: Vec<WheelCtl>,
+    /// Per magnet (levitation, guidance left, right of each wheel): its controller, state
+    /// and per-unit gap, for the interleaved update of the paper's law.
+    mags: Vec<Levitation<f64>>,
+    /// The committed inner states in that order (the wheels' `lev_state.inner`,
+    /// `pair.left.inner`, `pair.right.inner`, refreshed on every commit) and the trial.
+    mag_committed: Vec<State<f64>>,
+    mag_st: Vec<State<f64>>,
+    mag_h: Vec<f64>,
+    mag_out: Vec<Output<f64>>,
+    /// The trial of the general path (one entry per wheel); the paper batch's trial is the
+    /// inner states in `mag_st` (its filters `q` stay the committed ones).
+    trial: Vec<(LawState<f64>, [LawState<f64>; 2])>,
+    /// The general path's outputs of its trial, per wheel `[levitation, left, right]` (the
+    /// batch's are in `mag_out`).
+    trial_out: Vec<[Output<f64>; 3]>,
+    /// Every magnet's coil at the last committed step ([`Magnets::coils`]).
+    coils: Vec<[Coil; 3]>,
+    /// Which trial the last `forces` left.
+    pending: Pending,
+    status: Status,
+    geometry: Geometry,
+}
+
+impl CoreMagnets {
+    /// The core's controllers, to be [started](Magnets::start) on a run's train.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Every controller in equilibrium at the wheel's initial gaps `gaps0`
+    /// ([`super::initial_gaps`]); `p0` per wheel from the vehicle, `Δt` from the run.
+    pub fn for_train(v: &Train, gaps0: &[WheelGaps], s: &Settings) -> Result<Self> {
+        let mut ctl = Vec::with_capacity(v.wheels.len());
+        for (&p0, &(h_init, gy)) in v.p0.iter().zip(gaps0) {
+            let mut magnet = s.controller;
+            magnet.p0 = p0;
+            magnet.dt = s.dt;
+            let law = LawParams {
+                magnet,
+                kind: s.law,
+            }
+            .compile::<f64>()
+            .map_err(|e| Error::invalid("controller", e.to_string()))?;
+            ctl.push(WheelCtl {
+                lev_state: law.equilibrium_state(h_init),
+                pair: law.pair_equilibrium_state(gy),
+                law,
+            });
+        }
+        let mags: Vec<Levitation<f64>> =
+            ctl.iter().flat_map(|c| [*c.law.levitation(); 3]).collect();
+        let n = mags.len();
+        let mut m = CoreMagnets {
+            mags,
+            mag_committed: vec![State::default(); n],
+            mag_st: vec![State::default(); n],
+            mag_h: vec![0.0; n],
+            mag_out: vec![Output::default(); n],
+            trial: Vec::with_capacity(ctl.len()),
+            trial_out: Vec::with_capacity(ctl.len()),
+            coils: ctl
+                .iter()
+                .map(|c| {
+                    let out = |s: &LawState<f64>| c.law.levitation().output(&s.inner);
+                    coils(
+                        &c.law,
+                        &[out(&c.lev_state), out(&c.pair[0]), out(&c.pair[1])],
+                    )
+                })
+                .collect(),
+            pending: Pending::None,
+            ctl,
+            status: Status::default(),
+            geometry: s.geometry,
+        };
+        m.gather_committed();
+        Ok(m)
+    }
+
+    /// `mag_committed` from the wheels' committed states.
+    fn gather_committed(&mut self) {
+        for (c, st) in self.ctl.iter().zip(self.mag_committed.chunks_exact_mut(3)) {
+            st.copy_from_slice(&[c.lev_state.inner, c.pair[0].inner, c.pair[1].inner]);
+        }
+    }
+}
+
+impl CoreMagnets {
+    /// The paper's law on every magnet at once ([`update_batch`]: the bits of one
+    /// `Levitation::update` per magnet), the guidance pairs' net forces by the core's
+    /// [`guidance::update_with`] on the outputs. Finite gaps only (the per-unit guidance gaps
+    /// `1 ± d` are then formed as the core forms them).
+    ///
+    /// The trial inner states stay in `mag_st` ([`Pending::Batch`]); `commit` takes them.
+    fn paper_batch(&mut self, gaps_next: &[WheelGaps], out: &mut [(f64, f64)]) {
+        let n = self.ctl.len();
+        self.mag_st.copy_from_slice(&self.mag_committed);
+        for ((c, &(hz, dy)), h) in self
+            .ctl
+            .iter()
+            .zip(gaps_next)
+            .zip(self.mag_h.chunks_exact_mut(3))
+        {
+            let h0 = c.law.levitation().params().h0;
+            let d = dy / h0;
+            h.copy_from_slice(&[hz / h0, 1.0 + d, 1.0 - d]);
+        }
+        update_batch(&self.mags, &mut self.mag_st, &self.mag_h, &mut self.mag_out);
+        let mut status = self.status;
+        for (((c, &(_, dy)), o), out) in self
+            .ctl
+            .iter()
+            .zip(&gaps_next[..n])
+            .zip(self.mag_out.chunks_exact(3))
+            .zip(&mut out[..n])
+        {
+            let (lev_out, mut l, mut r) = (o[0], o[1], o[2]);
+            let magnet = c.law.levitation().params();
+            let d = dy / magnet.h0;
+            let pair_out = guidance::update_with(self.geometry, &mut l, &mut r, d, |o, _| *o);
+            status = status.union(lev_out.status).union(pair_out.status);
+            let p0 = magnet.p0;
+            *out = (lev_out.force * p0, pair_out.force_y * p0);
+        }
+        self.status = status;
+        self.pending = Pending::Batch;
+    }
+
+    /// Every wheel by its own law (any law, any gap): the trial in `trial`
+    /// ([`Pending::General`]).
+    fn general(&mut self, gaps_next: &[WheelGaps], accels: &[f64], out: &mut [(f64, f64)]) {
+        for (i, c) in self.ctl.iter().enumerate() {
+            let (hz, dy) = gaps_next[i];
+            let magnet = c.law.levitation().params();
+            let h0 = magnet.h0;
+            let mut st = c.lev_state;
+            let lev_out = c.law.update(
+                &mut st,
+                Measurement {
+                    gap: hz / h0,
+                    accel: Some(accels[i] / GRAVITY),
+                    current: None,
+                },
+            );
+            let mut pair = c.pair;
+            let pair_out = c.law.update_pair(self.geometry, &mut pair, dy / h0);
+            self.status = self.status.union(lev_out.status).union(pair_out.status);
+            let p0 = magnet.p0;
+            out[i] = (lev_out.force * p0, pair_out.force_y * p0);
+            self.trial.push((st, pair));
+            self.trial_out
+                .push([lev_out, pair_out.left, pair_out.right]);
+        }
+        self.pending = Pending::General;
+    }
+}
+
+impl Magnets for CoreMagnets {
+    fn start(&mut self, start: &Start<'_>) -> Result<()> {
+        *self = Self::for_train(start.train, start.gaps, start.settings)?;
+        Ok(())
+    }
+
+    /// One update of every law from the committed state to the gaps at the end of the step
+    /// (the law interpolates from the gap its state last saw; `gaps_prev` is that gap).
+    fn forces(
+        &mut self,
+        _step: u32,
+        _t: f64,
+        _gaps_prev: &[WheelGaps],
+        gaps_next: &[WheelGaps],
+        accels: &[f64],
+        out: &mut [(f64, f64)],
+    ) -> Result<()> {
+        self.trial.clear();
+        self.trial_out.clear();
+        self.pending = Pending::None;
+        self.status = Status::default();
+        let finite = gaps_next.iter().all(|g| g.0.is_finite() && g.1.is_finite());
+        if finite && self.ctl.iter().all(|c| c.law.is_paper()) {
+            self.paper_batch(gaps_next, out);
+        } else {
+            self.general(gaps_next, accels, out);
+        }
+        Ok(())
+    }
+
+    fn commit(&mut self, _step: u32, _t: f64) -> Result<()> {
+        match self.pending {
+            Pending::None => return Err(Error::numerical("internal: commit without a step")),
+            Pending::Batch => {
+                for (c, st) in self.ctl.iter_mut().zip(self.mag_st.chunks_exact(3)) {
+                    c.lev_state.inner = st[0];
+                    c.pair[0].inner = st[1];
+                    c.pair[1].inner = st[2];
+                }
+                self.mag_committed.copy_from_slice(&self.mag_st);
+                for ((c, o), coil) in self
+                    .ctl
+                    .iter()
+                    .zip(self.mag_out.chunks_exact(3))
+                    .zip(&mut self.coils)
+                {
+                    *coil = coils(&c.law, o);
+                }
+            }
+            Pending::General => {
+                for ((c, (st, pair)), (o, coil)) in self
+                    .ctl
+                    .iter_mut()
+                    .zip(self.trial.drain(..))
+                    .zip(self.trial_out.iter().zip(&mut self.coils))
+                {
+                    c.lev_state = st;
+                    c.pair = pair;
+                    *coil = coils(&c.law, o);
+                }
+                self.gather_committed();
+            }
+        }
+        self.pending = Pending::None;
+        Ok(())
+    }
+
+    fn status(&self) -> Status {
+        self.status
+    }
+
+    fn coils(&self) -> &[[Coil; 3]] {
+        &self.coils
+    }
+}
+
+/// A wheel's three magnets' coils in SI from their law's outputs `[levitation, left, right]`.
+fn coils(law: &Law<f64>, o: &[Output<f64>]) -> [Coil; 3] {
+    [0, 1, 2].map(|k| {
+        let si = law.levitation().to_si(&o[k]);
+        Coil {
+            current: si.current,
+            voltage: si.voltage,
+            saturated: o[k].status.contains(Status::VOLTAGE_SATURATED),
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::vehicle::{Fig1, VehicleModel};
+    use maglev_core::levitation::{Params, Scheme};
+
+    fn noise(s: &mut u64) -> f64 {
+        *s ^= *s << 13;
+        *s ^= *s >> 7;
+        *s ^= *s << 17;
+        (*s >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+
+    /// The paper batch (trial kept in `mag_st`, committed states cached in
+    /// `mag_committed`) gives the bits of the per-wheel path, forces and status, over 300
+    /// steps of three iterations on pseudo-random gaps, under both schemes; and a run that
+    /// switches path every step (as a non-finite gap would make it) gives the same bits too.
+    #[test]
+    fn batch_matches_the_per_wheel_path_across_commits() {
+        let car = VehicleModel::fig1(&Fig1::default(), 9.81).unwrap();
+        let train = Train::from_cars(vec![car]);
+        for scheme in [Scheme::Paper, Scheme::Accurate] {
+            let mut controller = Params::paper_wheel(1e-3);
+            controller.scheme = scheme;
+            let h0 = controller.h0;
+            let s = Settings {
+                speed: 100.0,
+                dt: 1e-3,
+                t_end: 0.3,
+                controller,
+                law: maglev_core::LawKind::Paper,
+                geometry: Geometry::Paper,
+                tolerance: 1e-9,
+                max_iterations: 10,
+                midspan_x: 0.0,
+                midspans: Vec::new(),
+            };
+            let nw = train.wheels.len();
+            let gaps0 = vec![(h0, 0.0); nw];
+            let accels = vec![0.0; nw];
+            let mut batch = CoreMagnets::for_train(&train, &gaps0, &s).unwrap();
+            let mut general = CoreMagnets::for_train(&train, &gaps0, &s).unwrap();
+            let mut mixed = CoreMagnets::for_train(&train, &gaps0, &s).unwrap();
+            let (mut fb, mut fg, mut fm) = (
+                vec![(0.0, 0.0); nw],
+                vec![(0.0, 0.0); nw],
+                vec![(0.0, 0.0); nw],
+            );
+            let mut seed = 0x2545_F491_4F6C_DD1D_u64;
+            let mut gaps = gaps0.clone();
+            let mut moved = false;
+            for step in 1..=300u32 {
+                for _ in 0..3 {
+                    for g in &mut gaps {
+                        *g = (
+                            h0 * (1.0 + 0.2 * noise(&mut seed)),
+                            0.3 * h0 * noise(&mut seed),
+                        );
+                    }
+                    batch
+                        .forces(step, 0.0, &gaps0, &gaps, &accels, &mut fb)
+                        .unwrap();
+                    assert!(batch.pending == Pending::Batch);
+                    general.trial.clear();
+                    general.trial_out.clear();
+                    general.status = Status::default();
+                    general.general(&gaps, &accels, &mut fg);
+                    if step % 2 == 0 {
+                        mixed
+                            .forces(step, 0.0, &gaps0, &gaps, &accels, &mut fm)
+                            .unwrap();
+                    } else {
+                        mixed.trial.clear();
+                        mixed.trial_out.clear();
+                        mixed.status = Status::default();
+                        mixed.general(&gaps, &accels, &mut fm);
+                    }
+                    for i in 0..nw {
+                        for (x, y) in [(fb[i], fg[i]), (fb[i], fm[i])] {
+                            assert_eq!(x.0.to_bits(), y.0.to_bits(), "step {step} wheel {i}");
+                            assert_eq!(x.1.to_bits(), y.1.to_bits(), "step {step} wheel {i}");
+                        }
+                    }
+                    assert_eq!(batch.status(), general.status());
+                    assert_eq!(batch.status(), mixed.status());
+                    moved |= fb
+                        .iter()
+                        .any(|f| (f.0 - train.p0[0]).abs() > 1.0 && f.1 != 0.0);
+                }
+                for m in [&mut batch, &mut general, &mut mixed] {
+                    m.commit(step, 0.0).unwrap();
+                }
+                assert!(batch.commit(step, 0.0).is_err(), "a second commit");
+                assert_eq!(batch.coils(), general.coils(), "step {step}");
+                assert_eq!(batch.coils(), mixed.coils(), "step {step}");
+            }
+            assert!(moved, "the forces never left their static values");
+        }
+    }
+}
