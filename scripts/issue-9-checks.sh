@@ -45,9 +45,9 @@ for n in 1 3 6 12; do row="$row $(printf '%.3f' "$(train --set train.repeat="$n"
 echo "| the same, 1 / 3 / 6 / 12 cars (35 spans) |${row% /} s | linear |"
 
 # 4. Moving force on 3 spans, FE against the modal reference at each midspan.
-dev=$(cargo test -q --release -p maglev-host-sim --test fe_multispan -- --nocapture 2>/dev/null |
+dev=$(cargo test -q --release -p maglev-sim --test fe_multispan -- --nocapture 2>/dev/null |
   grep -o 'FE vs modal [0-9.]* %' | awk '{printf "%s%s", s, $4; s=" / "}')
-echo "| host-sim/tests/fe_multispan.rs, FE vs modal at each midspan | ${dev} % of the peak | ≤ 0.5 % |"
+echo "| host-sim/sim/tests/fe_multispan.rs, FE vs modal at each midspan | ${dev} % of the peak | ≤ 0.5 % |"
 
 # 5. Bad sizes: one line on stderr, exit 2, no output directory.
 bad=""

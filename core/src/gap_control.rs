@@ -33,7 +33,7 @@
 //! [`GapParams::designed`] gives `kp = 4.0e-3`, `kd = 4.2e-3 s`, `tf = 2 ms` per unit, found by
 //! minimising the spectral abscissa of the linearised closed loop (inner law + outer PD + one
 //! massless magnet carrying a quarter of the Fig. 1 body on its suspension, rigid rail):
-//! poles −3.17 ± 2.51j, −3.41, −6.84 ± 64.7j, −502 s⁻¹ (`host-sim/src/studies/stability/gap_loop.rs`,
+//! poles −3.17 ± 2.51j, −3.41, −6.84 ± 64.7j, −502 s⁻¹ (`host-sim/sim/src/studies/stability/gap_loop.rs`,
 //! `docs/gap-loop.md`). They are specific to that plant: with a 500 kg magnet mass the same
 //! gains are unstable (the analysis and the simulation agree, tested there). The
 //! gains are small because the inner integral (`ki = 600 s⁻¹` at the paper's values)
@@ -45,7 +45,7 @@
 //! ([`GapLoop::update_pair`]). Linearised, the pair's differential mode
 //! `x_d = (x_R − x_L)/2` sees `η_d = −d/h0` and gives `F_y = 4·p0·x_d`: the levitation plant
 //! with twice the force gain; the common mode gives no force. With the designed gains and the
-//! Fig. 1 suspension that plant is stable too (tested in `host-sim/src/studies/stability/gap_loop`).
+//! Fig. 1 suspension that plant is stable too (tested in `host-sim/sim/src/studies/stability/gap_loop`).
 //!
 //! Configuration ([`GapParams`], f64) is apart from state ([`GapState`]); [`GapParams::compile`]
 //! converts once to the run-time type. No allocation, no panic.

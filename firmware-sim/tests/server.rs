@@ -488,7 +488,7 @@ fn link_loss_watchdog_starts_the_fault_reaction_and_latches() {
     assert_eq!(s.timer_tick(), 0);
 }
 
-/// The state law with gains for this magnet (those of host-sim/tests/state_law.rs).
+/// The state law with gains for this magnet (those of host-sim/cli/tests/state_law.rs).
 fn state_config(scalar: ScalarKind) -> Config {
     use maglev_core::law::state::StateParams;
     Config {

@@ -8,7 +8,7 @@ cd "$(dirname "$0")"
 out=corpus/input
 rm -rf "$out"
 mkdir -p "$out"
-for f in ../scenarios/*.toml ../scenarios/examples/*.toml; do
+for f in ../sim/scenarios/*.toml ../sim/scenarios/examples/*.toml; do
   cp "$f" "$out/text-$(basename "$f" .toml)"
 done
 seed() { # NAME SCENARIO SET...

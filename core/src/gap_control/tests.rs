@@ -1,5 +1,5 @@
 //! The outer loop's pieces against hand-derived values; closed-loop stability is tested
-//! against the linearised analysis in `host-sim/src/studies/stability/gap_loop.rs`.
+//! against the linearised analysis in `host-sim/sim/src/studies/stability/gap_loop.rs`.
 
 extern crate std;
 use super::*;

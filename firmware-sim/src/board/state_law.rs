@@ -3,7 +3,7 @@
 //! "The state law on the M4").
 //!
 //! The magnet is the Fig. 1 wheel's (p0 = 36 787.5 N) under its rail (EMS geometry) with the
-//! gains the project's tests run the Fig. 1 car with (`host-sim/tests/state_law.rs`, `GAINS`).
+//! gains the project's tests run the Fig. 1 car with (`host-sim/cli/tests/state_law.rs`, `GAINS`).
 //! The update is called through [`update_once`], a real call with the law's signature, and
 //! [`update_shaped`] (the same signature, returning at once) measures the harness, as
 //! [`crate::board::selftest::call_cost`] does for the paper's law.

@@ -1,4 +1,4 @@
-//! The DAF-against-speed study of docs/sweeps.md: two sweeps (host-sim/sweeps/daf-*.toml),
+//! The DAF-against-speed study of docs/sweeps.md: two sweeps (host-sim/cli/sweeps/daf-*.toml),
 //! each run's peak dynamic midspan deflection divided by the static midspan deflection from
 //! an independent closed form (simply supported Timoshenko beam, docs/model.md §9), the plot,
 //! and the cost of each run.

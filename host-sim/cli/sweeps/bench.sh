@@ -3,13 +3,13 @@
 # and with --jobs 2, ROUNDS times alternately (default 5). Prints each round's wall times and
 # ratio with the load average, then the median ratio and the ratio of the best walls, and
 # checks that every results.csv is byte-identical to the first.
-# Usage: bash host-sim/sweeps/bench.sh [OUT_DIR]   (env: ROUNDS, MAGLEV)
+# Usage: bash host-sim/cli/sweeps/bench.sh [OUT_DIR]   (env: ROUNDS, MAGLEV)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out=${1:-target/sweep-bench}
 rounds=${ROUNDS:-5}
 maglev=${MAGLEV:-target/release/maglev}
-[ -x "$maglev" ] || cargo build --release -q -p maglev-host-sim
+[ -x "$maglev" ] || cargo build --release -q -p maglev
 rm -rf "$out" && mkdir -p "$out"
 echo "$(nproc) cores; $rounds rounds; load average (1, 5, 15 min) before each round"
 now() { date +%s.%N; }
@@ -17,9 +17,9 @@ rows=""
 for r in $(seq 1 "$rounds"); do
   load=$(cut -d' ' -f1 /proc/loadavg)
   t0=$(now)
-  "$maglev" sweep host-sim/sweeps/seeds-100.toml --jobs 1 --out "$out/jobs1-$r" 2>/dev/null
+  "$maglev" sweep host-sim/cli/sweeps/seeds-100.toml --jobs 1 --out "$out/jobs1-$r" 2>/dev/null
   t1=$(now)
-  "$maglev" sweep host-sim/sweeps/seeds-100.toml --jobs 2 --out "$out/jobs2-$r" 2>/dev/null
+  "$maglev" sweep host-sim/cli/sweeps/seeds-100.toml --jobs 2 --out "$out/jobs2-$r" 2>/dev/null
   t2=$(now)
   cmp "$out/jobs1-1/results.csv" "$out/jobs1-$r/results.csv"
   cmp "$out/jobs1-1/results.csv" "$out/jobs2-$r/results.csv"

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The sharp peaks of a resonance sweep's results.csv (host-sim/sweeps/resonance.toml,
+# The sharp peaks of a resonance sweep's results.csv (host-sim/cli/sweeps/resonance.toml,
 # docs/resonance.md): local maxima of |COLUMN| that are the largest within ±0.1 s of passing
-# period T = 25/v, as host-sim/tests/resonance_speed.rs finds them.
-# Usage: bash host-sim/sweeps/resonance-peaks.sh DIR/results.csv [COLUMN, default max:midspan_z]
+# period T = 25/v, as host-sim/sim/tests/resonance_speed.rs finds them.
+# Usage: bash host-sim/cli/sweeps/resonance-peaks.sh DIR/results.csv [COLUMN, default max:midspan_z]
 set -euo pipefail
 col=${2:-max:midspan_z}
 awk -F, -v col="$col" '

@@ -134,13 +134,13 @@ fn bad_input_gets_a_one_line_error_and_a_non_zero_exit() {
 }
 
 /// The README's `maglev control` commands run as written on the trace the repo ships
-/// (host-sim/examples/data/gap.csv, 201 rows): exit 0, the header and one row per input row.
+/// (host-sim/cli/examples/data/gap.csv, 201 rows): exit 0, the header and one row per input row.
 #[test]
 fn the_readme_example_trace_runs() {
     let trace = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/gap.csv");
     let readme =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../README.md")).unwrap();
-    assert!(readme.contains("control --trace host-sim/examples/data/gap.csv"));
+    assert!(readme.contains("control --trace host-sim/cli/examples/data/gap.csv"));
     for extra in [
         ["--nsub", "10", "--scalar", "i4f28"],
         ["--scheme", "accurate", "--nsub", "1"],

@@ -207,7 +207,7 @@ fn tempdir(name: &str) -> PathBuf {
 /// The rate a pty achieves on this machine (docs/hil.md, "Connect a board"): the §4.3
 /// passage (speed 100 m/s, 500 steps of 1 ms) over the pty cable, unpaced and with
 /// `--realtime` at 1 kHz and at 500 Hz (Δt = 2 ms, 20 ticks per step). A measurement, not a check: it prints, and is run by hand with
-/// `cargo test -p maglev-host-sim --test hil_serial -- --ignored --nocapture pty_rate`.
+/// `cargo test -p maglev --test hil_serial -- --ignored --nocapture pty_rate`.
 #[test]
 #[ignore = "a measurement; run by hand (docs/hil.md)"]
 fn pty_rate() {

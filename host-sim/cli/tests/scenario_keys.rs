@@ -500,7 +500,7 @@ fn short_keys_are_the_codes() {
 fn the_from_scratch_example_runs() {
     assert!(
         DOC.contains(&format!("```toml\n{EXAMPLE}```")),
-        "docs/scenarios.md must show host-sim/scenarios/examples/from-scratch.toml verbatim"
+        "docs/scenarios.md must show host-sim/sim/scenarios/examples/from-scratch.toml verbatim"
     );
     let path = example_path();
     let case = Case::load(path.to_str().unwrap(), &[]).unwrap();

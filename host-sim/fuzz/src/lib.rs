@@ -9,15 +9,15 @@
 //!
 //! Properties, for every input: `scenario::parse` and `Case::new` return without panicking,
 //! within the per-input time limit and the allocation limit `.ci/fuzz` gives libFuzzer; an
-//! error is one line (`maglev_host_sim::Error`: "every failure a user can meet ends as one
+//! error is one line (`maglev_sim::Error`: "every failure a user can meet ends as one
 //! line on stderr"); a case that resolves can be recorded (`Case::record`, the run record).
 //!
 //! The designs (`law = "gap-loop"`, `[controller.state] design = true`) are not part of the
-//! input path: `Case::new` records them as data and `maglev_host_sim::studies::design::resolve` runs
+//! input path: `Case::new` records them as data and `maglev_sim::studies::design::resolve` runs
 //! them afterwards (a search over the vehicle's linear model, 0.1 s to minutes), so the
 //! target exercises every key and check of the case at the input path's own speed.
-use maglev_host_sim::input::case::Case;
-use maglev_host_sim::input::scenario::{self, BUNDLED};
+use maglev_sim::input::case::Case;
+use maglev_sim::input::scenario::{self, BUNDLED};
 
 /// The scenario text (or bundled name) and the `--set` lines of a fuzz input.
 pub fn split(data: &[u8]) -> (String, Vec<String>) {

@@ -28,7 +28,7 @@ const DAMPING: [&str; 3] = [
     "bridge.damping.f1_Hz=5.0",
     "bridge.damping.f2_Hz=50.0",
 ];
-/// The unit scenario's body, spring and damper (host-sim/scenarios/unit.toml).
+/// The unit scenario's body, spring and damper (host-sim/sim/scenarios/unit.toml).
 const BODY_KG: f64 = 3750.0;
 const K_SUSP: f64 = 200e3;
 const C_SUSP: f64 = 10e3;

@@ -74,7 +74,7 @@ fn time_loop_does_not_allocate() {
     }
 }
 
-/// The same for the coupled viaduct (host-sim/src/physics/fe/viaduct.rs), including the pier-base
+/// The same for the coupled viaduct (host-sim/sim/src/physics/fe/viaduct.rs), including the pier-base
 /// query the `pier{K}.base.*` probes use; and the same viaduct driven by support motion (a
 /// uniform record and a settled pier, docs/seismic.md "Support motion").
 #[test]

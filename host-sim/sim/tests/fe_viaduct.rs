@@ -1,4 +1,4 @@
-//! The §5 viaduct (host-sim/src/physics/fe/viaduct.rs) against closed forms and a second model:
+//! The §5 viaduct (host-sim/sim/src/physics/fe/viaduct.rs) against closed forms and a second model:
 //! a pier on an elastic base (bending and rocking: the frequency equation of a cantilever
 //! with a translational and a rotational base spring, solved here by bisection; the static
 //! tip deflection), a girder span on its bearings and piers against a hand calculation of

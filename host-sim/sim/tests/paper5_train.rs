@@ -443,7 +443,7 @@ fn a_pier_probe_is_checked_against_the_guideway() {
 
 /// Issue #10's runs: a 12-car train of each kind over the 35-span viaduct, 5000 steps of
 /// 2 ms at 83.33 m/s. A timing print, not a timed assertion (run in release:
-/// `cargo test --release -p maglev-host-sim --test paper5_train -- --ignored --nocapture`).
+/// `cargo test --release -p maglev-sim --test paper5_train -- --ignored --nocapture`).
 #[test]
 #[ignore]
 fn timing_of_12_car_trains_over_35_spans() {

@@ -60,7 +60,7 @@
 //! |W| ≲ x·e^{x·Im q_p}. Beyond x·|Im q_p| = 30 (e^{−30} = 9e-14, so |W| < 1e-8 for
 //! x < 1e5) W is returned as 0; this also bounds the work of one evaluation.
 //!
-//! **Accuracy** (host-sim/tests/ground_green.rs): the static limit, the Rayleigh far field
+//! **Accuracy** (host-sim/sim/tests/ground_green.rs): the static limit, the Rayleigh far field
 //! at x = 200 and an independently written second evaluation of (G1) for x = 0.5 … 100,
 //! ν = 0.25, 1/3, 0.45, ξ = 0.01, 0.05 (docs/ground.md has the measured table).
 

@@ -17,7 +17,7 @@
 //!   ≥ N + ⌈(2·r_max/c_R + 1 s)/Δt⌉: every wave from the farthest pier (the Rayleigh wave,
 //!   the slowest, at r_max/c_R) has arrived and twice that time has passed before the
 //!   circular convolution could bring the end of the padded window back onto the record.
-//!   host-sim/tests/ground_receivers.rs checks that doubling M changes nothing visible.
+//!   host-sim/sim/tests/ground_receivers.rs checks that doubling M changes nothing visible.
 //! - **The Green's function once per frequency bin and distance.** W depends on
 //!   x = 2πfr/c_s only (green.rs, (G2)), so it is tabulated once on a uniform x grid and
 //!   interpolated (cubic Lagrange on W·e^{iRe(q_R)x}, the Rayleigh phase taken out, spacing
