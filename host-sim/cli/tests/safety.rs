@@ -10,10 +10,10 @@ mod counting_alloc;
 
 use counting_alloc::count;
 use maglev_sim::physics::guideway::RigidGuideway;
-use maglev_sim::physics::vehicle::Node;
+use maglev_sim::physics::train::Node;
+use maglev_sim::physics::vehicle::Coil;
 use maglev_sim::probes::{Recorder, StepView, Wheels};
 use maglev_sim::safety::{Safety, SafetyReport, BODY_ACCEL_LIMIT, UNLOADING_LIMIT};
-use maglev_sim::simulation::Coil;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

@@ -23,8 +23,9 @@ use maglev_core::Status;
 use maglev_firmware_sim::accel::AccelModel;
 use maglev_firmware_sim::protocol::{ChannelInit, Config, Nack, Reply, Request, Response};
 use maglev_firmware_sim::supervision::Event;
-use maglev_sim::physics::vehicle::Train;
-use maglev_sim::simulation::{magnet_gaps, Magnets, Settings, Start, WheelGaps};
+use maglev_sim::physics::train::Train;
+use maglev_sim::physics::vehicle::magnet_gaps;
+use maglev_sim::simulation::{Magnets, Settings, Start, WheelGaps};
 use maglev_sim::{Error, Result};
 
 /// A logged firmware event.

@@ -14,17 +14,29 @@ pub enum Error {
     /// A value of the case or an option outside its domain: `key: reason` (the reason states
     /// the limit, e.g. "must be > 0, got -1").
     #[error("{key}: {reason}")]
-    Invalid { key: String, reason: String },
+    Invalid {
+        /// The key or option, as the user wrote it.
+        key: String,
+        /// What is wrong, with the limit.
+        reason: String,
+    },
     /// A file or directory could not be read or written.
     #[error("{}: {source}", path.display())]
     Io {
+        /// The file or directory.
         path: PathBuf,
+        /// The operating system's error.
         #[source]
         source: std::io::Error,
     },
     /// A text (scenario TOML, CSV, JSON) that does not parse: where, and the parser's words.
     #[error("{what}: {message}")]
-    Parse { what: String, message: String },
+    Parse {
+        /// The text's name (a file, `--set`, a column).
+        what: String,
+        /// The parser's words, cut to an excerpt.
+        message: String,
+    },
     /// A numerical failure: a matrix that is not positive definite, an iteration that does not
     /// converge, a value that is no longer finite.
     #[error("{0}")]

@@ -10,7 +10,7 @@
 //!   `gap_y` (the left magnet's, h0 + d, docs/model.md §2) and levitation gap `gap_z` (m), and
 //!   its levitation force (N, up); for a `forces` train, load N's point of the guideway and
 //!   its force (no gaps). Wheels are numbered along the train, car by car
-//!   ([`crate::physics::vehicle::Train::nodes`]); a wheel–rail car's wheels are its Hertz contacts:
+//!   ([`crate::physics::train::Train::nodes`]); a wheel–rail car's wheels are its Hertz contacts:
 //!   `z` the wheel's displacement, `force_z` the contact force (N, compressive, i.e. the rail
 //!   pushing the wheel up — the same "up on the wheel" as a magnet's force; zero once the
 //!   wheel has lifted off), no `y` and no gaps (empty cells);
@@ -29,8 +29,8 @@
 //! is `wheel1.gap_z`, …). Every probe is checked against the case before the run starts.
 
 use crate::physics::guideway::{Guideway, SectionMotion};
-use crate::physics::vehicle::Node;
-use crate::simulation::{magnet_gaps, written, Coil};
+use crate::physics::train::Node;
+use crate::physics::vehicle::{magnet_gaps, Coil};
 use crate::{Error, Result};
 use std::io::Write;
 
@@ -684,6 +684,15 @@ impl<W: Write> Recorder for CsvRecorder<W> {
         line.clear();
         written.map_err(|e| Error::io(RESPONSE_CSV, e))
     }
+}
+
+/// `n` copies of `value` in memory already written, so that the time loop, which fills it,
+/// meets no page fault (the OS maps a fresh or zeroed allocation, `vec![0.0; n]`, only on
+/// first touch). A vector cleared after this keeps its pages.
+pub(crate) fn written<T: Clone>(n: usize, value: T) -> Vec<T> {
+    let mut v = Vec::with_capacity(n);
+    v.resize(n, value);
+    v
 }
 
 #[cfg(test)]

@@ -14,9 +14,10 @@
 //! (docs/cars.md, "Decision (vertical and roll)").
 
 use crate::input::case::Case;
-use crate::physics::vehicle::Node;
+use crate::physics::train::Node;
+use crate::physics::vehicle::magnet_gaps;
 use crate::probes::{Recorder, StepView, Wheels};
-use crate::simulation::{magnet_gaps, voltage_limit};
+use crate::simulation::voltage_limit;
 use crate::Result;
 use serde::Serialize;
 

@@ -29,10 +29,11 @@ mod time_loop;
 pub mod train;
 
 use crate::physics::guideway::Guideway;
-use crate::physics::vehicle::Train;
+use crate::physics::train::Train;
+use crate::physics::vehicle::Coil;
 use crate::probes::Recorder;
 use crate::{Error, Result};
-use maglev_core::gap::{self, Geometry};
+use maglev_core::gap::Geometry;
 use maglev_core::{LawKind, Params, Status};
 use std::sync::atomic::{AtomicBool, Ordering};
 use time_loop::Riders;
@@ -105,16 +106,6 @@ pub struct Settings {
 /// guidance left, guidance right.
 pub type GapRanges = Vec<[(f64, f64); 3]>;
 
-/// One magnet's coil at the end of a committed step, as its law output it (SI): the current
-/// (A), the voltage (V), and whether the law clamped the voltage at `±V_max` in at least one
-/// of its control periods (or the paper's sub-steps) within the step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Coil {
-    pub current: f64,
-    pub voltage: f64,
-    pub saturated: bool,
-}
-
 /// One magnet's coil over a run: the largest `|i|` (A) and `|V|` (V) of the committed steps
 /// (t = 0 included), and the number of steps in which its law clamped the voltage.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -184,12 +175,6 @@ pub struct Outcome {
     /// The irregularity the run used, `[x, r_y, r_z]` (m) at every position a wheel occupied
     /// at a step, sorted by x, duplicates removed (empty for a moving force).
     pub profile: Vec<[f64; 3]>,
-}
-
-/// The three magnet gaps `[h_z, h_L, h_R]` (m) of a wheel's gaps (docs/model.md §2).
-pub fn magnet_gaps((hz, d): WheelGaps, h0: f64) -> [f64; 3] {
-    let (hl, hr) = gap::guidance_gaps(h0, d);
-    [hz, hl, hr]
 }
 
 /// Per wheel: the levitation gap `h_z` (m, Eq. 2) and the relative lateral position
@@ -352,15 +337,6 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
         forces: &[],
     };
     time_loop::run(guideway, riders, profiles, s, magnets, rec, monitor)
-}
-
-/// `n` copies of `value` in memory already written, so that the time loop, which fills it,
-/// meets no page fault (the OS maps a fresh or zeroed allocation, `vec![0.0; n]`, only on
-/// first touch). A vector cleared after this keeps its pages.
-pub(crate) fn written<T: Clone>(n: usize, value: T) -> Vec<T> {
-    let mut v = Vec::with_capacity(n);
-    v.resize(n, value);
-    v
 }
 
 /// The linearised contact force (N, compressive positive; docs/cars.md "Wheel–rail

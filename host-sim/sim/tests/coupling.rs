@@ -18,6 +18,7 @@
 use maglev_sim::probes::Rows;
 use maglev_sim::setup::simulate;
 use maglev_sim::simulation::magnets::CoreMagnets;
+use maglev_sim::studies::design::load;
 use maglev_sim::studies::stability::coupled::critical;
 use maglev_sim::studies::stability::report::{scenario_report, ScenarioReport};
 use nalgebra::{Complex, DMatrix};
@@ -177,7 +178,8 @@ fn assert_same_poles(a: &[[f64; 2]], b: &[Complex<f64>], tol: f64) {
 fn coupled_poles_equal_the_hand_model() {
     for extra in [vec![], vec![gains_with_ka(50.0)]] {
         for mass in [0.5, 3.5, 10.0] {
-            let r = scenario_report("unit", &sets(mass, &extra), 1).unwrap();
+            let r =
+                scenario_report("unit", &load("unit", &sets(mass, &extra)).unwrap(), 1).unwrap();
             let c = r.coupled.as_ref().unwrap();
             let hand = Hand::of(&r);
             assert_same_poles(&c.poles, &hand.poles(), 1e-6);
@@ -193,7 +195,7 @@ fn coupled_poles_equal_the_hand_model() {
 fn girder_modes_are_the_closed_form_beams() {
     let (l, x, e, g, a, asz, i) = (25.0, 10.0, 3.6e10, 1.6e10, 1.5, 0.7, 0.6);
     for mass in [0.5, 3.5, 10.0] {
-        let r = scenario_report("unit", &sets(mass, &[]), 1).unwrap();
+        let r = scenario_report("unit", &load("unit", &sets(mass, &[])).unwrap(), 1).unwrap();
         let gm = &r.girder_modes.as_ref().unwrap()[0];
         let (ra, k, kga, ei) = (mass * 1e3, std::f64::consts::PI / l, g * asz, e * i);
         let ri = ra / a * i;
@@ -229,9 +231,17 @@ fn girder_modes_are_the_closed_form_beams() {
 fn critical_girder_mass_equals_a_bisection_of_the_hand_model() {
     let extra = vec![gains_with_ka(370.0)];
     let s = sets(3.5, &extra);
-    let found = critical("unit", &s, "bridge.mass_t_per_m", [0.05, 20.0], 1).unwrap();
+    let found = critical(
+        "unit",
+        &s,
+        &load("unit", &s).unwrap(),
+        "bridge.mass_t_per_m",
+        [0.05, 20.0],
+        1,
+    )
+    .unwrap();
     let mu_c = found.critical.expect("a crossing in range");
-    let base = Hand::of(&scenario_report("unit", &s, 1).unwrap());
+    let base = Hand::of(&scenario_report("unit", &load("unit", &s).unwrap(), 1).unwrap());
     let at = |mu: f64| {
         let wg = base.wg * (3.5 / mu).sqrt();
         Hand {
@@ -259,11 +269,35 @@ fn critical_girder_mass_equals_a_bisection_of_the_hand_model() {
 #[test]
 fn critical_refuses_bad_input_naming_the_key() {
     let s = sets(3.5, &[]);
-    let e = critical("unit", &s, "bridge.mass_t_per_mm", [0.1, 1.0], 1).unwrap_err();
+    let e = critical(
+        "unit",
+        &s,
+        &load("unit", &s).unwrap(),
+        "bridge.mass_t_per_mm",
+        [0.1, 1.0],
+        1,
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("mass_t_per_mm"), "{e}");
-    let e = critical("unit", &s, "bridge.mass_t_per_m", [1.0, 0.5], 1).unwrap_err();
+    let e = critical(
+        "unit",
+        &s,
+        &load("unit", &s).unwrap(),
+        "bridge.mass_t_per_m",
+        [1.0, 0.5],
+        1,
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("--range"), "{e}");
-    let e = critical("unit", &s, "bridge.mass_t_per_m", [-1.0, 1.0], 1).unwrap_err();
+    let e = critical(
+        "unit",
+        &s,
+        &load("unit", &s).unwrap(),
+        "bridge.mass_t_per_m",
+        [-1.0, 1.0],
+        1,
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("mass_t_per_m"), "{e}");
 }
 
@@ -310,7 +344,7 @@ fn measured_decay_rates_match_the_predicted_max_real_part() {
         (3.5, "span1.midspan.z"),
         (10.0, "span1.midspan.z"),
     ] {
-        let r = scenario_report("unit", &sets(mass, &[]), 8).unwrap();
+        let r = scenario_report("unit", &load("unit", &sets(mass, &[])).unwrap(), 8).unwrap();
         let c = r.coupled.unwrap();
         let dominant = c.poles[0];
         assert_eq!(dominant[0], c.max_real_part);

@@ -12,7 +12,7 @@ use maglev_sim::physics::fe::FeGuideway;
 use maglev_sim::physics::guideway::RigidGuideway;
 use maglev_sim::physics::guideway::{Bridge, Guideway};
 use maglev_sim::physics::profile::Profile;
-use maglev_sim::physics::vehicle::Train;
+use maglev_sim::physics::train::Train;
 use maglev_sim::probes::{BodyQ, PierQ, Probe, Probes, Rows, SectionQ, WheelQ};
 use maglev_sim::simulation::magnets::CoreMagnets;
 use maglev_sim::simulation::{simulate, Load, Outcome, Profiles, Settings};
@@ -453,7 +453,7 @@ fn timing_of_12_car_trains_over_35_spans() {
         ..WheelRail::default()
     };
     let hertz_only = Train::repeated(
-        &maglev_sim::physics::vehicle::CarKind::WheelRail(hertz_only),
+        &maglev_sim::physics::train::CarKind::WheelRail(hertz_only),
         12,
         25.0,
         GRAVITY,

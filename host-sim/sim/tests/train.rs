@@ -2,7 +2,8 @@
 //! equilibrium, coupled only through the guideway and the rail.
 
 use maglev_sim::input::case::{Case, TrainCase};
-use maglev_sim::physics::vehicle::{CarKind, CarSpec, Fig1, Train};
+use maglev_sim::physics::train::{CarKind, CarSpec, Train};
+use maglev_sim::physics::vehicle::Fig1;
 use maglev_sim::probes::{BodyQ, Probe, Recorder, StepView, WheelQ};
 use maglev_sim::setup::Passage;
 use maglev_sim::simulation::magnets::CoreMagnets;

@@ -243,9 +243,11 @@ pub fn run(args: Args) -> crate::Result<()> {
         )?);
     }
     if let (Some(name), Some(key), Some(range)) = (&args.scenario, &args.critical, &args.range) {
+        let base = crate::studies::design::load(name, &args.sets)?;
         let r = crate::studies::stability::coupled::critical(
             name,
             &args.sets,
+            &base,
             key,
             [range[0], range[1]],
             args.girder_modes,
@@ -257,7 +259,8 @@ pub fn run(args: Args) -> crate::Result<()> {
         );
     }
     if let Some(name) = &args.scenario {
-        let r = scenario_report(name, &args.sets, args.girder_modes)?;
+        let case = crate::studies::design::load(name, &args.sets)?;
+        let r = scenario_report(name, &case, args.girder_modes)?;
         let text = match args.format {
             Format::Json => {
                 serde_json::to_string_pretty(&r)

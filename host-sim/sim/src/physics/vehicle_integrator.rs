@@ -368,7 +368,8 @@ mod tests {
     /// 200 pseudo-random states each (entries over eight decades, some exactly zero).
     #[test]
     fn free_step_gives_the_integrators_bits() {
-        use crate::physics::vehicle::{Fig1, Train, VehicleModel};
+        use crate::physics::train::Train;
+        use crate::physics::vehicle::{Fig1, VehicleModel};
         let mut systems = Vec::new();
         let fig1 = VehicleModel::fig1(&Fig1::default(), 9.81).unwrap();
         systems.push((fig1.m.clone(), fig1.c.clone(), fig1.k_on_rigid_rail()));

@@ -3,8 +3,9 @@
 //! (`n_sub`) interpolating the gap inside the step — under any [`maglev_core::Law`]. Calls the
 //! core; never a host copy of a law.
 
-use super::{Coil, Magnets, Settings, Start, WheelGaps};
-use crate::physics::vehicle::Train;
+use super::{Magnets, Settings, Start, WheelGaps};
+use crate::physics::train::Train;
+use crate::physics::vehicle::Coil;
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::guidance;

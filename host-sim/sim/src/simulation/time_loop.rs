@@ -15,12 +15,13 @@
 
 use super::train::TrainState;
 use super::{
-    contact_force, magnet_gaps, written, CoilRange, CoilRanges, GapRanges, Magnets, Monitor,
-    MovingLoad, Outcome, Profiles, Settings, WheelGaps,
+    contact_force, CoilRange, CoilRanges, GapRanges, Magnets, Monitor, MovingLoad, Outcome,
+    Profiles, Settings, WheelGaps,
 };
 use crate::physics::guideway::{Guideway, PointLoad};
-use crate::physics::vehicle::Train;
-use crate::probes::{Recorder, StepView, Wheels};
+use crate::physics::train::Train;
+use crate::physics::vehicle::magnet_gaps;
+use crate::probes::{written, Recorder, StepView, Wheels};
 use crate::{Error, Result};
 
 /// What rides over the guideway: a train's magnet wheels and contacts, and constant moving

@@ -5,7 +5,7 @@
 //! 13 DOFs costs the same whether it runs alone or as car 12 of 12, and the train's cost grows
 //! linearly in its cars. The cars may be advanced on rayon's pool ([`Train::parallel`]).
 
-use crate::physics::vehicle::Train;
+use crate::physics::train::Train;
 use crate::physics::vehicle_integrator::VehicleIntegrator;
 use crate::{Error, Result};
 use nalgebra::{Cholesky, DVector};

@@ -173,6 +173,36 @@ pub fn to_csv(rows: &[Row]) -> String {
     s
 }
 
+/// The canned traces of `tests/src/traces.rs` (same definitions): 1 s at Δt = `dt`.
+pub fn traces(dt: f64) -> [(&'static str, Trace); 2] {
+    let make = |h: &dyn Fn(f64) -> f64| {
+        let n = (1.0 / dt) as usize;
+        let t: Vec<f64> = (0..=n).map(|k| k as f64 * dt).collect();
+        let h = t.iter().map(|&t| h(t)).collect();
+        Trace { t, h, dt }
+    };
+    [
+        // The gap closes by 1 mm at t = 0.1 s.
+        (
+            "step",
+            make(&|t| if t < 0.1 - 1e-12 { 0.01 } else { 0.009 }),
+        ),
+        // 1 mm at 5 Hz.
+        (
+            "sine",
+            make(&|t| 0.01 + 0.001 * (2.0 * std::f64::consts::PI * 5.0 * t).sin()),
+        ),
+    ]
+}
+
+/// Largest |ΔF|/p0 between two runs of the same trace.
+pub fn max_force_error(a: &[Row], b: &[Row], p0: f64) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x.force - y.force).abs() / p0)
+        .fold(0.0, f64::max)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,7 +8,8 @@
 //! refused by `Case::law`.
 
 use crate::input::case::{Case, Changes, LawChoice, TrainCase};
-use crate::physics::vehicle::{Train, VehicleModel};
+use crate::physics::train::Train;
+use crate::physics::vehicle::VehicleModel;
 use crate::{Error, Result};
 use maglev_core::gap_control::GapParams;
 use maglev_core::levitation::GRAVITY;

@@ -6,7 +6,8 @@ use crate::input::scenario::{
     Fig1Keys, ForcesKeys, MaglevKeys, MovingForceKeys, UnitKeys, VehicleSection, WheelRailKeys,
 };
 use crate::physics::cars::fig6::Fig6;
-use crate::physics::vehicle::{Fig1, Train, Unit, VehicleModel};
+use crate::physics::train::Train;
+use crate::physics::vehicle::{Fig1, Unit, VehicleModel};
 use crate::simulation::MovingLoad;
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;

@@ -183,33 +183,3 @@ pub fn add_spring_damper(
     add_outer(cmat, c, &s);
     Ok(())
 }
-
-/// The static solution with the DOFs `held` fixed at zero: solves `K_ff u_f = f_f` and
-/// returns `(u, r)`, u the displacements (zero on the held DOFs) and r the support
-/// reactions, the forces the supports exert on the held DOFs, `r_h = (K u)_h − f_h`.
-pub fn static_solution(
-    k: &DMatrix<f64>,
-    f: &DVector<f64>,
-    held: &[usize],
-) -> Result<(DVector<f64>, DVector<f64>)> {
-    let n = k.nrows();
-    let free: Vec<usize> = (0..n).filter(|i| !held.contains(i)).collect();
-    let kff = DMatrix::from_fn(free.len(), free.len(), |i, j| k[(free[i], free[j])]);
-    let ff = DVector::from_fn(free.len(), |i, _| f[free[i]]);
-    let uf = kff.cholesky().ok_or_else(|| {
-        Error::numerical(
-            "car statics: the stiffness with the supports held is not positive definite",
-        )
-    })?;
-    let uf = uf.solve(&ff);
-    let mut u = DVector::zeros(n);
-    for (i, &d) in free.iter().enumerate() {
-        u[d] = uf[i];
-    }
-    let ku = k * &u;
-    let mut r = DVector::zeros(n);
-    for &h in held {
-        r[h] = ku[h] - f[h];
-    }
-    Ok((u, r))
-}

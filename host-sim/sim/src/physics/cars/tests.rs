@@ -5,7 +5,7 @@ use super::fig6::{Fig6, BOGIES, PER_BOGIE};
 use super::link::*;
 use super::wheel_rail::{hertz_stiffness, zhai_g, WheelRail};
 use super::*;
-use crate::physics::vehicle::{add_link_spring, Direction};
+use crate::physics::vehicle::{add_link_spring, static_solution, Direction};
 use nalgebra::{DMatrix, DVector};
 
 const G: f64 = 9.81;

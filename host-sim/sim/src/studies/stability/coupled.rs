@@ -10,8 +10,7 @@
 use crate::input::case::Case;
 use crate::input::scenario::Model;
 use crate::studies::stability::girder::{girder_modes, GirderMode};
-use crate::studies::stability::report::{min_damping, vehicle_of};
-use crate::studies::stability::vehicle::{VehiclePlant, Verdict};
+use crate::studies::stability::vehicle::{min_damping, vehicle_of, VehiclePlant, Verdict};
 use serde::Serialize;
 
 /// Default number of vertical bending modes per span (`--girder-modes`).
@@ -77,7 +76,8 @@ pub struct Critical {
 }
 
 /// The value of scenario key `key` in `[lo, hi]` where the coupled model's `max_real_part`
-/// crosses zero, with the law of `name` resolved once at the scenario's own values.
+/// crosses zero, with the law resolved once at the scenario's own values: `base` is
+/// `name` with `sets`, loaded with its law resolved ([`crate::studies::design::load`]).
 ///
 /// Method: `max_real_part` on [`SCAN`] points (log-spaced if `lo > 0`, else even) brackets the
 /// first sign change; bisection narrows it to 1e-9 of the range. A stable or unstable window
@@ -85,6 +85,7 @@ pub struct Critical {
 pub fn critical(
     name: &str,
     sets: &[String],
+    base: &Case,
     key: &str,
     [lo, hi]: [f64; 2],
     count: usize,
@@ -95,7 +96,6 @@ pub fn critical(
             format!("needs finite LO < HI, got {lo} {hi}"),
         ));
     }
-    let base = crate::studies::design::load(name, sets)?;
     let at = |x: f64| -> crate::Result<f64> {
         let mut s = sets.to_vec();
         s.push(format!("{key}={x:?}"));

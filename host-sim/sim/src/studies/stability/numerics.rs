@@ -7,31 +7,9 @@
 //! fixed point stops carrying the sub-step increments. Everything runs through the core via
 //! `control::run_trace_as` (the same path as `maglev control`).
 
-use crate::studies::control::{run_trace_as, Row, ScalarKind, Trace};
+use crate::studies::control::{max_force_error, run_trace_as, traces, ScalarKind};
 use maglev_core::{Interpolation, ParamError, Params};
 use std::fmt::Write as _;
-
-/// The canned traces of `tests/src/traces.rs` (same definitions): 1 s at Δt = `dt`.
-pub fn traces(dt: f64) -> [(&'static str, Trace); 2] {
-    let make = |h: &dyn Fn(f64) -> f64| {
-        let n = (1.0 / dt) as usize;
-        let t: Vec<f64> = (0..=n).map(|k| k as f64 * dt).collect();
-        let h = t.iter().map(|&t| h(t)).collect();
-        Trace { t, h, dt }
-    };
-    [
-        // The gap closes by 1 mm at t = 0.1 s.
-        (
-            "step",
-            make(&|t| if t < 0.1 - 1e-12 { 0.01 } else { 0.009 }),
-        ),
-        // 1 mm at 5 Hz.
-        (
-            "sine",
-            make(&|t| 0.01 + 0.001 * (2.0 * std::f64::consts::PI * 5.0 * t).sin()),
-        ),
-    ]
-}
 
 /// The sub-step counts of the study.
 pub const N_SUBS: [u32; 6] = [1, 2, 5, 10, 100, 1000];
@@ -43,14 +21,6 @@ pub const TYPES: [ScalarKind; 4] = [
     ScalarKind::I32f32,
     ScalarKind::I4f28,
 ];
-
-/// Largest |ΔF|/p0 between two runs of the same trace.
-pub fn max_force_error(a: &[Row], b: &[Row], p0: f64) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x.force - y.force).abs() / p0)
-        .fold(0.0, f64::max)
-}
 
 fn params(dt: f64, n_sub: u32, interp: Interpolation) -> Params {
     let mut p = Params::paper_wheel(dt);

@@ -3,15 +3,13 @@
 //! and margins (docs/levitation.md), and for the gap loop its designed gains with the
 //! per-magnet loop poles.
 
-use crate::input::case::{Case, TrainCase};
-use crate::physics::vehicle::{Unit, VehicleModel};
+use crate::input::case::Case;
 use crate::studies::stability::coupled::{coupled, Coupled};
 use crate::studies::stability::girder::GirderMode;
 use crate::studies::stability::margins::{margins, Margins};
-use crate::studies::stability::vehicle::VehiclePlant;
+use crate::studies::stability::vehicle::{min_damping, vehicle_of, VehiclePlant};
 use crate::studies::stability::Complex;
 use maglev_core::law::state::StateParams;
-use maglev_core::levitation::GRAVITY;
 use maglev_core::{LawKind, Params};
 use serde::Serialize;
 
@@ -88,46 +86,6 @@ pub struct ScenarioReport {
     pub coupled: Option<Coupled>,
 }
 
-/// The vehicle of a case as a function of its magnet mass (kg), and that mass.
-type Builder = Box<dyn Fn(f64) -> crate::Result<VehicleModel>>;
-
-pub fn vehicle_of(case: &Case) -> crate::Result<(VehicleModel, f64, Builder)> {
-    match &case.train {
-        TrainCase::Fig1 { car, .. } => {
-            let car = car.clone();
-            let v = VehicleModel::fig1(&car, GRAVITY)?;
-            let m0 = car.wheel_mass;
-            let build: Builder = Box::new(move |m| {
-                let fig = crate::physics::vehicle::Fig1 {
-                    wheel_mass: m,
-                    ..car.clone()
-                };
-                VehicleModel::fig1(&fig, GRAVITY)
-            });
-            Ok((v, m0, build))
-        }
-        TrainCase::Unit(u) => {
-            let u = u.clone();
-            let v = VehicleModel::unit(&u, GRAVITY)?;
-            let m0 = u.magnet_mass;
-            let build: Builder = Box::new(move |m| {
-                VehicleModel::unit(
-                    &Unit {
-                        magnet_mass: m,
-                        ..u.clone()
-                    },
-                    GRAVITY,
-                )
-            });
-            Ok((v, m0, build))
-        }
-        _ => Err(crate::Error::invalid(
-            "vehicle.kind",
-            "stability --scenario needs a fig1 or unit vehicle (magnets to analyse)",
-        )),
-    }
-}
-
 /// The period at which `law` updates the coil voltage (s): the state law's control period,
 /// else the inner law's sub-step (`dt/n_sub`, or the accurate scheme's Gauss interval).
 pub fn control_period(law: &LawKind, inner: &Params, dt: f64) -> f64 {
@@ -153,26 +111,17 @@ pub fn all_margins(plant: &VehiclePlant, delay: f64) -> crate::Result<Vec<Margin
         .collect()
 }
 
-/// Smallest damping ratio `−re/|s|` of `poles` other than the zero poles.
-pub fn min_damping(poles: &[Complex]) -> f64 {
-    poles
-        .iter()
-        .filter(|p| p.abs() >= crate::studies::stability::vehicle::ZERO_POLE)
-        .map(|p| -p.re / p.abs())
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// Computes the scenario report (no printing), with `girder_modes` bending modes per span
+/// Computes the report of scenario `name` as `case` (loaded with its law resolved,
+/// [`crate::studies::design::load`]; no printing), with `girder_modes` bending modes per span
 /// in the coupled analysis.
 pub fn scenario_report(
     name: &str,
-    sets: &[String],
+    case: &Case,
     girder_modes: usize,
 ) -> crate::Result<ScenarioReport> {
     use crate::studies::stability::gap_loop::GapLoopPlant;
     use crate::studies::stability::vehicle::{critical_mass, ZERO_POLE};
-    let case = crate::studies::design::load(name, sets)?;
-    let (v, magnet_mass, build) = vehicle_of(&case)?;
+    let (v, magnet_mass, build) = vehicle_of(case)?;
     let Some(inner) = case.controller else {
         return Err(crate::Error::invalid(
             "controller",
@@ -181,7 +130,7 @@ pub fn scenario_report(
     };
     let law = case.law()?;
     let geometry = case.geometry;
-    let (girder, coupled) = coupled(&case, girder_modes)?.unzip();
+    let (girder, coupled) = coupled(case, girder_modes)?.unzip();
     let plant = VehiclePlant::new(&v, &inner, &law, geometry)?;
     let vd = plant.verdict()?;
     let critical = critical_mass(magnet_mass, |m| {

@@ -6,8 +6,7 @@
 //! order with a smooth error expansion, so the extrapolant is second order). Its own error is
 //! shown as the spread against the extrapolant from (500, 1000).
 
-use super::numerics::{max_force_error, traces};
-use crate::studies::control::{run_trace_as, Row, ScalarKind, Trace};
+use crate::studies::control::{max_force_error, run_trace_as, traces, Row, ScalarKind, Trace};
 use maglev_core::{Params, Scheme};
 use std::fmt::Write as _;
 use std::time::Instant;

@@ -39,7 +39,8 @@ use super::girder::GirderMode;
 use super::inner_loop::Loop;
 use super::magnet::{self, Slots};
 use super::Complex;
-use crate::physics::vehicle::{Fig1, VehicleModel};
+use crate::input::case::{Case, TrainCase};
+use crate::physics::vehicle::{Fig1, Unit, VehicleModel};
 use maglev_core::gap::{self, Geometry};
 use maglev_core::levitation::GRAVITY;
 use maglev_core::LawKind;
@@ -464,6 +465,55 @@ pub fn critical_mass(
         prev = m;
     }
     Ok(None)
+}
+
+/// The vehicle of a case as a function of its magnet mass (kg), and that mass.
+type Builder = Box<dyn Fn(f64) -> crate::Result<VehicleModel>>;
+
+pub fn vehicle_of(case: &Case) -> crate::Result<(VehicleModel, f64, Builder)> {
+    match &case.train {
+        TrainCase::Fig1 { car, .. } => {
+            let car = car.clone();
+            let v = VehicleModel::fig1(&car, GRAVITY)?;
+            let m0 = car.wheel_mass;
+            let build: Builder = Box::new(move |m| {
+                let fig = Fig1 {
+                    wheel_mass: m,
+                    ..car.clone()
+                };
+                VehicleModel::fig1(&fig, GRAVITY)
+            });
+            Ok((v, m0, build))
+        }
+        TrainCase::Unit(u) => {
+            let u = u.clone();
+            let v = VehicleModel::unit(&u, GRAVITY)?;
+            let m0 = u.magnet_mass;
+            let build: Builder = Box::new(move |m| {
+                VehicleModel::unit(
+                    &Unit {
+                        magnet_mass: m,
+                        ..u.clone()
+                    },
+                    GRAVITY,
+                )
+            });
+            Ok((v, m0, build))
+        }
+        _ => Err(crate::Error::invalid(
+            "vehicle.kind",
+            "stability --scenario needs a fig1 or unit vehicle (magnets to analyse)",
+        )),
+    }
+}
+
+/// Smallest damping ratio `−re/|s|` of `poles` other than the zero poles.
+pub fn min_damping(poles: &[Complex]) -> f64 {
+    poles
+        .iter()
+        .filter(|p| p.abs() >= ZERO_POLE)
+        .map(|p| -p.re / p.abs())
+        .fold(f64::INFINITY, f64::min)
 }
 
 #[cfg(test)]

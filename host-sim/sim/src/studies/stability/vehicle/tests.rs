@@ -203,7 +203,12 @@ fn rate(r: &[(f64, f64)], t0: f64, t1: f64, win: f64) -> f64 {
 /// the envelope of an oscillating dominant pair needs windows of at least one period.
 fn predicted(sets: &[&str]) -> (f64, f64) {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let r = crate::studies::stability::report::scenario_report("paper-4.2", &sets, 0).unwrap();
+    let r = crate::studies::stability::report::scenario_report(
+        "paper-4.2",
+        &crate::studies::design::load("paper-4.2", &sets).unwrap(),
+        0,
+    )
+    .unwrap();
     let sigma = r.max_real_part;
     let period = r
         .vehicle_poles
