@@ -38,17 +38,22 @@ pub struct GroundRecord {
     samples: Vec<[f64; AXES]>,
 }
 
+/// The sample steps a record may have (s): `maglev accelerogram`'s limits (Nyquist above 5 Hz,
+/// at most 10 kHz), for a record read from a file too.
+pub const DT_LIMITS_S: (f64, f64) = (1e-4, 0.1);
+
 /// The CSV header of a record (`maglev accelerogram`'s).
 pub const HEADER: &str = "t_s,ax_m_per_s2,ay_m_per_s2,az_m_per_s2";
 
 impl GroundRecord {
-    /// A record of `samples` at the step `dt`; every value finite, `dt` > 0, at least one
-    /// sample.
+    /// A record of `samples` at the step `dt`; every value finite, `dt` within
+    /// [`DT_LIMITS_S`], at least one sample.
     pub fn new(dt: f64, samples: Vec<[f64; AXES]>) -> crate::Result<Self> {
-        if !(dt.is_finite() && dt > 0.0) {
+        let (lo, hi) = DT_LIMITS_S;
+        if !(dt.is_finite() && (lo..=hi).contains(&dt)) {
             return Err(Error::invalid(
                 "support.record.dt",
-                format!("must be > 0, got {dt}"),
+                format!("must be within [{lo}, {hi}] s (the sample step of a ground-acceleration record), got {dt:e}"),
             ));
         }
         if samples.is_empty() {
@@ -131,18 +136,15 @@ impl GroundRecord {
     /// sample.
     pub fn acceleration(&self, t: f64) -> [f64; AXES] {
         let s = t / self.dt;
-        if s.is_nan() || s < 0.0 {
+        let n = self.samples.len();
+        // Compared as floats before any index is formed: a huge t/Δt saturates a cast.
+        if s.is_nan() || s < 0.0 || s > (n - 1) as f64 {
             return [0.0; AXES];
         }
         let i = s.floor();
         let k = i as usize;
-        let n = self.samples.len();
         if k + 1 >= n {
-            return if k + 1 == n && s == i {
-                self.samples[k]
-            } else {
-                [0.0; AXES]
-            };
+            return self.samples[n - 1];
         }
         let f = s - i;
         let (a, b) = (self.samples[k], self.samples[k + 1]);
@@ -510,4 +512,25 @@ mod tests {
             .to_string();
         assert!(e.contains("line 2"), "{e}");
     }
+
+    /// A sample step outside [`DT_LIMITS_S`] is refused naming it (Δt = 1e-300 s indexed
+    /// usize::MAX: t/Δt saturated the cast), and a time far beyond the record reads zero.
+    #[test]
+    fn the_sample_step_is_bounded_and_no_time_indexes_past_the_record() {
+        for dt in ["1e-300", "1e-5", "0.5"] {
+            let text = format!("{HEADER}\n0,0,0,0\n{dt},0,0,0\n");
+            let e = GroundRecord::from_csv("quake.csv", &text).unwrap_err().to_string();
+            assert!(
+                e.contains("support.record.dt: must be within [0.0001, 0.1] s") && !e.contains('\n'),
+                "{dt}: {e}"
+            );
+        }
+        let dt = 1.0 / 1024.0;
+        let r = record(dt, 4, |_| [0.0, 0.0, 1.0]);
+        for t in [1e300, f64::MAX, f64::INFINITY, 4.0 * dt, 4.0 * dt + 1e-12] {
+            let want = if t == 4.0 * dt { [0.0, 0.0, 1.0] } else { [0.0; AXES] };
+            assert_eq!(r.acceleration(t), want, "t = {t:e}");
+        }
+    }
 }
+
