@@ -20,7 +20,8 @@
 //!    (`maglev_core::irregularity`, one stream per component). The sum on the uniform grid is
 //!    one inverse real FFT; the test holds it against the direct sum.
 //! 2. **Envelope** (the Jennings, Housner & Tsai 1968 shape): (t/t₁)² while rising, 1 over the
-//!    strong motion, e^{−c(t−t₂)} after t₂.
+//!    strong motion, e^{−c(t−t₂)} after t₂; tapered to zero over the record's last 5 % (at
+//!    most 1 s) so that the record's last sample is zero ([`tapered_envelope`]).
 //! 3. **Baseline**: a record used as support motion must end at rest, or the supports drift
 //!    away. `a − e(t)(α + βt)` with α, β chosen so that velocity and displacement integrated by
 //!    the trapezoid rule (which is what Newmark's average acceleration does to a prescribed
@@ -281,7 +282,7 @@ impl Spec {
 pub fn synthesize(spec: &Spec, name: KeyName) -> Result<Accelerogram> {
     let n = spec.samples(name)?;
     let dt = spec.dt_s;
-    let envelope: Vec<f64> = (0..n).map(|j| spec.envelope.at(j as f64 * dt)).collect();
+    let envelope = tapered_envelope(&spec.envelope, n, dt);
     let component = |c: usize, peak: f64| -> Result<Vec<f64>> {
         if peak == 0.0 {
             return Ok(vec![0.0; n]);
@@ -302,6 +303,34 @@ pub fn synthesize(spec: &Spec, name: KeyName) -> Result<Accelerogram> {
         y: component(1, spec.pga)?,
         z: component(2, spec.pga * spec.vertical_ratio)?,
     })
+}
+
+/// The longest end taper (s) and its share of the record ([`tapered_envelope`]).
+pub const END_TAPER: (f64, f64) = (1.0, 0.05);
+
+/// The envelope e(t) at the `n` samples, times a half-cosine taper from 1 to 0 over the
+/// record's last [`END_TAPER`] (5 % of it, at most 1 s), exactly 0 at the last sample: the
+/// record then ends at zero acceleration, so the ground's step from its last sample to the
+/// zero after it adds nothing (a last sample a_N ≠ 0 left Δt·a_N/2 of velocity per run and a
+/// drift that never ended), and the correction of step 3, proportional to the same envelope,
+/// keeps it zero.
+pub fn tapered_envelope(e: &Envelope, n: usize, dt: f64) -> Vec<f64> {
+    let span = (n - 1) as f64 * dt;
+    let taper = END_TAPER.0.min(END_TAPER.1 * span);
+    (0..n)
+        .map(|j| {
+            let t = j as f64 * dt;
+            let into = t - (span - taper);
+            let w = if j + 1 == n {
+                0.0
+            } else if into > 0.0 {
+                0.5 * (1.0 + (std::f64::consts::PI * into / taper).cos())
+            } else {
+                1.0
+            };
+            e.at(t) * w
+        })
+        .collect()
 }
 
 /// Step 1: `n` samples of the stationary sum, by one inverse real FFT of even length m ≥ n.
@@ -459,6 +488,7 @@ mod tests {
                 "final displacement {d}"
             );
             assert_eq!(a[0], 0.0, "the envelope starts at zero");
+            assert_eq!(a[a.len() - 1], 0.0, "the last sample is zero");
         }
     }
 
