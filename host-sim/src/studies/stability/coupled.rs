@@ -20,6 +20,10 @@ pub const GIRDER_MODES: usize = 8;
 /// Points of the critical search's scan over `[LO, HI]` (bisection follows).
 const SCAN: usize = 32;
 
+/// The most bisections of the critical search: 1e-9 of the range takes 30, and a range
+/// narrower than the floats can halve stops earlier (its midpoint is one of its ends).
+const MAX_BISECTIONS: usize = 200;
+
 /// The coupled model's verdict.
 #[derive(Debug, Serialize)]
 pub struct Coupled {
@@ -125,8 +129,11 @@ pub fn critical(
         let r = if i == SCAN - 1 { ends[1] } else { at(x)? };
         if (r >= 0.0) != (prev.1 >= 0.0) {
             let (mut a, mut b, ra) = (prev.0, x, prev.1);
-            while b - a > 1e-9 * (hi - lo) {
+            for _ in 0..MAX_BISECTIONS {
                 let m = 0.5 * (a + b);
+                if b - a <= 1e-9 * (hi - lo) || m <= a || m >= b {
+                    break;
+                }
                 if (at(m)? >= 0.0) == (ra >= 0.0) {
                     a = m;
                 } else {
