@@ -81,11 +81,14 @@ pub struct Critical {
 }
 
 /// The value of scenario key `key` in `[lo, hi]` where the coupled model's `max_real_part`
-/// crosses zero, with the law of `name` resolved once at the scenario's own values.
+/// crosses zero, with the law of `name` resolved once at the scenario's own values, unless
+/// `key` changes the law itself (a gain of `[controller.state]`, `controller.law`): then each
+/// point analyses the law as the key gives it there (designed there, where it is designed).
 ///
 /// Method: `max_real_part` on [`SCAN`] points (log-spaced if `lo > 0`, else even) brackets the
-/// first sign change; bisection narrows it to 1e-9 of the range. A stable or unstable window
-/// narrower than one scan step could be missed.
+/// first sign change; bisection narrows it to 1e-9 of the range, or to adjacent floats (at
+/// most [`MAX_BISECTIONS`]). A stable or unstable window narrower than one scan step could be
+/// missed.
 pub fn critical(
     name: &str,
     sets: &[String],
@@ -99,12 +102,17 @@ pub fn critical(
             format!("needs finite LO < HI, got {lo} {hi}"),
         ));
     }
-    let base = crate::studies::design::load(name, sets)?;
+    let unresolved = Case::load(name, sets)?.law;
+    let base = crate::studies::design::resolve(Case::load(name, sets)?)?;
     let at = |x: f64| -> crate::Result<f64> {
         let mut s = sets.to_vec();
         s.push(format!("{key}={x:?}"));
         let mut c = Case::load(name, &s)?;
-        c.law = base.law;
+        if c.law == unresolved {
+            c.law = base.law;
+        } else {
+            c = crate::studies::design::resolve(c)?;
+        }
         match coupled(&c, count)? {
             Some((_, v)) => Ok(v.max_real_part),
             None => Err(crate::Error::invalid(
