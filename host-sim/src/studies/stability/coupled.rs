@@ -44,14 +44,16 @@ pub fn coupled(case: &Case, count: usize) -> crate::Result<Option<(Vec<GirderMod
         return Ok(None);
     }
     let (v, _, _) = vehicle_of(case)?;
-    let modes = girder_modes(case, &v.wheels, count)?;
     let inner = case.controller.ok_or_else(|| {
         crate::Error::invalid(
             "controller",
             "the coupled analysis needs a [controller] section",
         )
     })?;
-    let plant = VehiclePlant::on_girder(&v, &inner, &case.law()?, case.geometry, &modes)?;
+    let law = case.law()?;
+    crate::studies::stability::report::runnable(case, &v, &inner, law)?;
+    let modes = girder_modes(case, &v.wheels, count)?;
+    let plant = VehiclePlant::on_girder(&v, &inner, &law, case.geometry, &modes)?;
     let vd: Verdict = plant.verdict()?;
     let source = format!(
         "the FE span's first {count} vertical bending modes ({} elements per span), each \
