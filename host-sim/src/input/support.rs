@@ -182,6 +182,16 @@ impl SyntheticSection {
 }
 
 impl SupportSection {
+    /// The record files the section reads (`record`, then `records` in order): the inputs of
+    /// a case besides its scenario text, which a sweep hashes to notice a changed record.
+    pub fn files(&self) -> Vec<&str> {
+        self.record
+            .iter()
+            .chain(self.records.iter().flatten())
+            .map(String::as_str)
+            .collect()
+    }
+
     /// The motion of the `piers` piers, `span_length` apart; `read` returns a record file's
     /// text (the caller resolves the path against the scenario's folder).
     pub fn to_motion(
