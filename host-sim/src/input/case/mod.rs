@@ -36,7 +36,7 @@ pub use changes::Changes;
 pub use checks::MAX_MAGNITUDE;
 pub use controller::LawChoice;
 pub use train::{fig6, TrainCase, MAX_CARS, MAX_LOADS};
-pub use viaduct::{MAX_PIER_ELEMENTS, MAX_RECEIVERS};
+pub use viaduct::{soil_density, MAX_PIER_ELEMENTS, MAX_RECEIVERS};
 
 use crate::input::scenario::{self, BridgeKind, Model, Scenario};
 use crate::physics::fe::newmark::Rayleigh;
