@@ -324,6 +324,13 @@ mod tests {
             ("dt=1e-12", "run.t_end_s"),
             ("t_end=1e12", "run.t_end_s"),
             ("t_end=nan", "run.t_end_s"),
+            ("t_end=1e-300", "run.t_end_s"),
+            ("speed=50\nx=1", "--set `speed=50\\nx=1`"),
+            ("speed=50\rx=1", "--set `speed=50\\rx=1`"),
+            (
+                "output.probes=[\"wheel1_gap_z\", \"wheel1_gap_z\"]",
+                "output.probes",
+            ),
             ("elements=100000", "run.elements_per_span"),
             ("elements=0", "run.elements_per_span"),
             ("modes=0", "run.modes"),
