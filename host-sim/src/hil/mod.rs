@@ -18,6 +18,7 @@ pub mod compare;
 pub mod coupling;
 pub mod link;
 pub mod realtime;
+pub mod step_frame;
 
 use crate::{Error, Result};
 use board::SensorFault;
