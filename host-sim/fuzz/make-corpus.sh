@@ -40,9 +40,9 @@ seed viaduct paper-5 bridge.pier.elements=8 soil.poisson=0.3 bridge.bearings.dro
 seed ground paper-5 "ground.distances_m=[12.5, 25.0]" ground.pier=20 soil.damping_ratio=0.05
 seed forces train-forces train.repeat=4 train.car_length_m=30 train.offset_y_m=1
 seed moving-force moving-force model=modal vehicle.force_kN=-100 'bridge.spans_m=[20, 30]'
-seed record paper-5 support.record=records/quake.csv train.cars=2
+seed record paper-5 support.record=records/quake.csv train.cars=4
 seed record-wave paper-5 support.record=records/quake.csv support.spatial=wave-passage support.apparent_speed_m_per_s=300
-seed records paper-5 'bridge.spans_m=[30.0, 30.0]' 'support.records=["records/quake.csv", "records/quake.csv", "records/quake.csv"]'
+seed records paper-5 'bridge.spans_m=[30.0, 30.0]' 'support.records=["records/quake.csv", "records/quake.csv", "records/quake.csv"]' 'output.probes=["pier2.base.z"]'
 seed record-spans moving-force support.record=records/quake.csv model=modal
 seed state-keys paper-4.2 law=state geometry=ems vehicle.wheel_mass_kg=1000 controller.state.kp_V_per_m=51600 controller.state.kd_V_s_per_m=1600 controller.state.ka_V_s2_per_m=40 controller.state.ki_V_per_m_s=4300 controller.state.kc_V_per_A=10 controller.state.vmax_V=500 controller.state.rate_Hz=5000 controller.state.observer_Hz=200
 seed state-design unit controller.state.vmax_V=400 controller.state.rate_Hz=2000 controller.state.observer_Hz=100 controller.state.design=true

@@ -306,7 +306,9 @@ mod tests {
     }
 
     fn read(_: &str) -> Result<String> {
-        Ok(format!("{HEADER}\n0.0,0,0,0\n0.5,0,0,2\n1.0,0,0,-2\n1.5,0,0,0\n"))
+        Ok(format!(
+            "{HEADER}\n0.0,0,0,0\n0.1,0,0,2\n0.2,0,0,-2\n0.3,0,0,0\n"
+        ))
     }
 
     /// Wave passage over 30 m spans at 300 m/s: pier 3 is 0.2 s behind pier 1; a settlement
@@ -319,8 +321,11 @@ mod tests {
         );
         let m = s.to_motion(3, 30.0, read).unwrap();
         assert_eq!(m.supports(), 3);
-        assert_eq!(m.acceleration(2, 0.45), m.acceleration(0, 0.25));
-        assert_eq!(m.acceleration(0, 0.25)[2], 1.0);
+        let (late, early) = (m.acceleration(2, 0.45)[2], m.acceleration(0, 0.25)[2]);
+        assert!(
+            (late - early).abs() < 1e-12 && (early + 1.0).abs() < 1e-12,
+            "{late} {early}"
+        );
         assert_eq!(m.settlement(1), [0.0, 0.0, -0.01]);
         assert_eq!(m.settlement(0), [0.0; 3]);
     }

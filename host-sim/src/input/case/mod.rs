@@ -376,7 +376,12 @@ mod tests {
             let (text, sets) = data.split_once('\0').unwrap_or((&data, ""));
             // The record files of the `[support]` seeds are named from fuzz/, where the
             // fuzzer runs (make-corpus.sh).
-            let fuzz = dir.parent().and_then(|d| d.parent()).unwrap().display().to_string();
+            let fuzz = dir
+                .parent()
+                .and_then(|d| d.parent())
+                .unwrap()
+                .display()
+                .to_string();
             let sets: Vec<String> = sets
                 .lines()
                 .map(|s| s.replace("records/", &format!("{fuzz}/records/")))

@@ -124,7 +124,9 @@ impl GroundRecord {
             }
         }
         let record = Self::new(dt, samples).map_err(|e| Error::parse(what, e))?;
-        record.check_at_rest().map_err(|why| Error::parse(what, why))?;
+        record
+            .check_at_rest()
+            .map_err(|why| Error::parse(what, why))?;
         Ok(record)
     }
 
@@ -532,12 +534,15 @@ mod tests {
     /// Linear between samples, exact at them, zero outside the record.
     #[test]
     fn record_interpolates_linearly() {
-        let r = record(0.5, 4, |t| [t, 2.0 * t, -t * t]);
-        assert_eq!(r.acceleration(1.0), [1.0, 2.0, -1.0]);
-        assert_eq!(r.acceleration(1.25), [1.25, 2.5, -(1.0 + 2.25) / 2.0]);
-        assert_eq!(r.acceleration(2.0), [2.0, 4.0, -4.0]);
-        assert_eq!(r.acceleration(-0.1), [0.0; AXES]);
-        assert_eq!(r.acceleration(2.1), [0.0; AXES]);
+        // Δt = 1/16 s: every time below is exact in binary.
+        let dt = 0.0625;
+        let r = record(dt, 4, |t| [t, 2.0 * t, -t * t]);
+        let at = |k: f64| r.acceleration(k * dt);
+        assert_eq!(at(2.0), [2.0 * dt, 4.0 * dt, -4.0 * dt * dt]);
+        assert_eq!(at(2.5), [2.5 * dt, 5.0 * dt, -(4.0 + 9.0) / 2.0 * dt * dt]);
+        assert_eq!(at(4.0), [4.0 * dt, 8.0 * dt, -16.0 * dt * dt]);
+        assert_eq!(at(-0.1), [0.0; AXES]);
+        assert_eq!(at(4.2), [0.0; AXES]);
     }
 
     /// Wave passage: support k follows the record delayed by (x_k − x_min)/c.
@@ -564,7 +569,12 @@ mod tests {
         let r = GroundRecord::from_csv("quake.csv", &text).unwrap();
         assert_eq!(
             r.samples(),
-            &[[0.0; 3], [1.5e-3, 1.0, -2.0], [-1.5e-3, -1.0, 2.0], [0.0; 3]]
+            &[
+                [0.0; 3],
+                [1.5e-3, 1.0, -2.0],
+                [-1.5e-3, -1.0, 2.0],
+                [0.0; 3]
+            ]
         );
         assert!((r.time_step() - 0.005).abs() < 1e-15);
         let bad_t = format!("{HEADER}\n0.000,0,0,0\n0.005,0,0,0\n0.020,0,0,0\n");
@@ -588,16 +598,23 @@ mod tests {
     fn the_sample_step_is_bounded_and_no_time_indexes_past_the_record() {
         for dt in ["1e-300", "1e-5", "0.5"] {
             let text = format!("{HEADER}\n0,0,0,0\n{dt},0,0,0\n");
-            let e = GroundRecord::from_csv("quake.csv", &text).unwrap_err().to_string();
+            let e = GroundRecord::from_csv("quake.csv", &text)
+                .unwrap_err()
+                .to_string();
             assert!(
-                e.contains("support.record.dt: must be within [0.0001, 0.1] s") && !e.contains('\n'),
+                e.contains("support.record.dt: must be within [0.0001, 0.1] s")
+                    && !e.contains('\n'),
                 "{dt}: {e}"
             );
         }
         let dt = 1.0 / 1024.0;
         let r = record(dt, 4, |_| [0.0, 0.0, 1.0]);
         for t in [1e300, f64::MAX, f64::INFINITY, 4.0 * dt, 4.0 * dt + 1e-12] {
-            let want = if t == 4.0 * dt { [0.0, 0.0, 1.0] } else { [0.0; AXES] };
+            let want = if t == 4.0 * dt {
+                [0.0, 0.0, 1.0]
+            } else {
+                [0.0; AXES]
+            };
             assert_eq!(r.acceleration(t), want, "t = {t:e}");
         }
     }
@@ -614,16 +631,26 @@ mod tests {
             }
             t
         };
-        let e = GroundRecord::from_csv("q.csv", &csv(&[[0.0; 3], [0.0, 1.0, 0.0], [0.0, 1.0, 0.0]]))
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("does not end at rest: the last ay is 1e0 m/s²"), "{e}");
+        let e =
+            GroundRecord::from_csv("q.csv", &csv(&[[0.0; 3], [0.0, 1.0, 0.0], [0.0, 1.0, 0.0]]))
+                .unwrap_err()
+                .to_string();
+        assert!(
+            e.contains("does not end at rest: the last ay is 1e0 m/s²"),
+            "{e}"
+        );
         let e = GroundRecord::from_csv("q.csv", &csv(&[[0.0; 3], [0.0, 0.0, 1.0], [0.0; 3]]))
             .unwrap_err()
             .to_string();
-        assert!(e.contains("does not end at rest: az integrates to a final velocity of 1e-2 m/s"), "{e}");
+        assert!(
+            e.contains("does not end at rest: az integrates to a final velocity of 1e-2 m/s"),
+            "{e}"
+        );
         // Up, down, at rest: velocity back to zero, the ground displaced: accepted.
-        GroundRecord::from_csv("q.csv", &csv(&[[0.0; 3], [1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0; 3]]))
-            .unwrap();
+        GroundRecord::from_csv(
+            "q.csv",
+            &csv(&[[0.0; 3], [1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0; 3]]),
+        )
+        .unwrap();
     }
 }
