@@ -381,7 +381,10 @@ mod tests {
         assert!(msg.contains("mean pace 500 periods/s"), "{msg}");
         // Period k ends at 2(k + 1) ms against its deadline (k + 1) ms: the last judged one,
         // k = 119, by 120 ms.
-        assert!(msg.contains("finished past their deadline, the latest by 120.000 ms"), "{msg}");
+        assert!(
+            msg.contains("finished past their deadline, the latest by 120.000 ms"),
+            "{msg}"
+        );
         assert!(msg.contains("median 0.500 ms, worst 0.500 ms"), "{msg}");
         assert!(!msg.contains('\n'));
         // A short run that ends before the window is judged at its end.

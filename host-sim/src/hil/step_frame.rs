@@ -71,7 +71,9 @@ mod tests {
     #[test]
     fn the_largest_accepted_step_encodes_and_the_next_is_refused() {
         for accels in [None, Some(4)] {
-            let most = (1..=MAX_SAMPLES).take_while(|&t| fits(t, 12, accels)).count();
+            let most = (1..=MAX_SAMPLES)
+                .take_while(|&t| fits(t, 12, accels))
+                .count();
             assert!(most > 0 && most < MAX_SAMPLES);
             check(most, 12, accels).unwrap();
             let e = check(most + 1, 12, accels).unwrap_err().to_string();

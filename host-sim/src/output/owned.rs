@@ -126,13 +126,22 @@ mod tests {
         std::fs::write(root.join("notes.md"), "mine").unwrap();
         for name in ["../notes.md", "sub/report.md", "/tmp/report.md", "..", "."] {
             let e = plain_name("--report", name).unwrap_err().to_string();
-            assert!(e.starts_with("--report: must be a file name"), "{name}: {e}");
+            assert!(
+                e.starts_with("--report: must be a file name"),
+                "{name}: {e}"
+            );
             let e = write(&d, &[(name.to_string(), "report".to_string())])
                 .unwrap_err()
                 .to_string();
-            assert!(e.contains("must be a file name inside --out"), "{name}: {e}");
+            assert!(
+                e.contains("must be a file name inside --out"),
+                "{name}: {e}"
+            );
         }
-        assert_eq!(std::fs::read_to_string(root.join("notes.md")).unwrap(), "mine");
+        assert_eq!(
+            std::fs::read_to_string(root.join("notes.md")).unwrap(),
+            "mine"
+        );
         plain_name("--report", "validation.md").unwrap();
         std::fs::remove_dir_all(&root).unwrap();
     }

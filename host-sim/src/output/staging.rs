@@ -374,14 +374,21 @@ mod tests {
             panic!("the run panicked");
         }));
         assert!(panicked.is_err());
-        assert!(!root.join("a").exists(), "left {:?}", std::fs::read_dir(&root).unwrap().collect::<Vec<_>>());
+        assert!(
+            !root.join("a").exists(),
+            "left {:?}",
+            std::fs::read_dir(&root).unwrap().collect::<Vec<_>>()
+        );
         assert!(root.is_dir(), "a directory that existed stays");
         // Dropped on an error, with a file put in a parent meanwhile: that parent stays.
         let s = Staging::new(&out).unwrap();
         std::fs::write(root.join("a/note"), "mine").unwrap();
         drop(s);
         assert!(!root.join("a/b").exists());
-        assert_eq!(std::fs::read_to_string(root.join("a/note")).unwrap(), "mine");
+        assert_eq!(
+            std::fs::read_to_string(root.join("a/note")).unwrap(),
+            "mine"
+        );
         std::fs::remove_file(root.join("a/note")).unwrap();
         // Finished: kept.
         Staging::new(&out).unwrap().finish().unwrap();
