@@ -530,9 +530,10 @@ fn a_settled_pier_from_a_scenario_reaches_the_run() {
 /// left each pier's ground moving at Δt·a_N/2 (1.2e-4 m/s at 1 ms) for ever.
 #[test]
 fn nothing_drifts_after_the_record_ends() {
-    let s: SupportSection =
-        toml::from_str("[synthetic]\npga_g = 0.1\nground = \"medium\"\nduration_s = 10.0\nseed = 1\n")
-            .unwrap();
+    let s: SupportSection = toml::from_str(
+        "[synthetic]\npga_g = 0.1\nground = \"medium\"\nduration_s = 10.0\nseed = 1\n",
+    )
+    .unwrap();
     let record = s.synthetic.as_ref().unwrap().record().unwrap();
     let end = record.end();
     assert_eq!(end, 10.0);
@@ -578,7 +579,10 @@ fn nothing_drifts_after_the_record_ends() {
             "{what}: peak ground displacement {peak:?} m; pier 1's ground ends at {:?} m",
             last.d
         );
-        assert!(held.iter().all(Option::is_some), "{what}: every record ended");
+        assert!(
+            held.iter().all(Option::is_some),
+            "{what}: every record ended"
+        );
         if uniform {
             for i in 0..3 {
                 assert!(
