@@ -170,7 +170,11 @@ fn a_run_with_receivers_writes_ground_csv() {
         Some("receiver,centre_hz,max_1s_vdb,max_1s_db_re_1e-9_m_per_s,record_vdb,record_db_re_1e-9_m_per_s")
     );
     let rows: Vec<&str> = lines.collect();
-    assert!(!rows.is_empty() && rows.len() % 3 == 0, "{}", rows.len());
+    assert!(
+        !rows.is_empty() && rows.len().is_multiple_of(3),
+        "{}",
+        rows.len()
+    );
     for r in &rows {
         let centre = r.split(',').nth(1).unwrap();
         assert!(centre.parse::<f64>().is_ok(), "{r}");

@@ -558,8 +558,8 @@ fn nothing_drifts_after_the_record_ends() {
             v.commit();
             let t = n as f64 * dt;
             for (k, g) in v.ground().unwrap().iter().enumerate() {
-                for i in 0..3 {
-                    peak[i] = peak[i].max(g.d[i].abs());
+                for (p, d) in peak.iter_mut().zip(g.d) {
+                    *p = p.max(d.abs());
                 }
                 let past = t - if uniform { 0.0 } else { delays[k] } > end + dt;
                 match (&held[k], past) {
@@ -584,13 +584,8 @@ fn nothing_drifts_after_the_record_ends() {
             "{what}: every record ended"
         );
         if uniform {
-            for i in 0..3 {
-                assert!(
-                    last.d[i].abs() <= 1e-9 * peak[i],
-                    "axis {i}: {} of {}",
-                    last.d[i],
-                    peak[i]
-                );
+            for (axis, (d, p)) in last.d.iter().zip(peak).enumerate() {
+                assert!(d.abs() <= 1e-9 * p, "axis {axis}: {d} of {p}");
             }
         }
     }
