@@ -99,13 +99,29 @@ pub struct CoilSummary {
     pub saturated: Option<f64>,
 }
 
-/// Every magnet's coil figures, wheel by wheel; saturation times only under a voltage bound.
-pub fn coil_summaries(ranges: &CoilRanges, dt: f64, bounded: bool) -> Vec<CoilSummary> {
+/// The magnets of wheel `i` by name: levitation, and the guidance pair where `guided` says
+/// the wheel has one (missing: it has).
+fn sides(guided: &[bool], i: usize) -> &'static [&'static str] {
+    if guided.get(i).copied().unwrap_or(true) {
+        &["z", "left", "right"]
+    } else {
+        &["z"]
+    }
+}
+
+/// Every magnet's coil figures, wheel by wheel (a wheel's guidance pair only where `guided`
+/// says it has one); saturation times only under a voltage bound.
+pub fn coil_summaries(
+    ranges: &CoilRanges,
+    guided: &[bool],
+    dt: f64,
+    bounded: bool,
+) -> Vec<CoilSummary> {
     ranges
         .iter()
         .enumerate()
         .flat_map(|(i, r)| {
-            ["z", "left", "right"]
+            sides(guided, i)
                 .iter()
                 .zip(r)
                 .map(move |(m, c)| CoilSummary {
@@ -123,13 +139,14 @@ fn largest(xs: impl Iterator<Item = f64>) -> Option<f64> {
     xs.reduce(f64::max)
 }
 
-/// Names and ranges of every magnet's gap, wheel by wheel.
-pub fn gap_ranges(ranges: &GapRanges) -> Vec<GapRange> {
+/// Names and ranges of every magnet's gap, wheel by wheel (a wheel's guidance pair only where
+/// `guided` says it has one).
+pub fn gap_ranges(ranges: &GapRanges, guided: &[bool]) -> Vec<GapRange> {
     ranges
         .iter()
         .enumerate()
         .flat_map(|(i, r)| {
-            ["z", "left", "right"]
+            sides(guided, i)
                 .iter()
                 .zip(r)
                 .map(move |(m, &(min, max))| GapRange {
@@ -162,12 +179,17 @@ impl Summary {
             .histories()
             .map(|(n, y)| (n.to_string(), columns.peak(y)))
             .collect();
-        let gaps = gap_ranges(&outcome.gap_ranges);
+        let gaps = gap_ranges(&outcome.gap_ranges, &outcome.guided);
         let limit = case
             .controller
             .as_ref()
             .and_then(|c| voltage_limit(&case.law().ok()?, c));
-        let coils = coil_summaries(&outcome.coil_ranges, case.dt, limit.is_some());
+        let coils = coil_summaries(
+            &outcome.coil_ranges,
+            &outcome.guided,
+            case.dt,
+            limit.is_some(),
+        );
         let min_gap = gaps.iter().map(|g| g.min_m).reduce(f64::min);
         Summary {
             scenario: scenario.to_string(),

@@ -1,4 +1,5 @@
-//! End-to-end: the `maglev bands` binary on CSV files it did not write: the `#` header, the
+//! End-to-end: the `maglev bands` binary on CSV files it did not write: the plain header and
+//! the method line, the
 //! band list, analytic levels of a sine, `--out`, `--output velocity`, `--running`, and
 //! one-line errors with exit code 2.
 
@@ -42,11 +43,12 @@ fn history() -> String {
     s
 }
 
-fn parse(stdout: &[u8]) -> (String, Vec<(f64, f64)>) {
-    let text = String::from_utf8(stdout.to_vec()).unwrap();
+/// The CSV's header and rows `(centre_hz, level)`: a plain header, no comment line.
+fn parse_csv(csv: &[u8]) -> (String, Vec<(f64, f64)>) {
+    let text = String::from_utf8(csv.to_vec()).unwrap();
     let mut lines = text.lines();
     let header = lines.next().unwrap().to_string();
-    assert_eq!(lines.next(), Some("centre_hz,level_db"));
+    assert!(header.starts_with("centre_hz,level_db_re_"), "{header}");
     let rows = lines
         .map(|l| {
             let (c, v) = l.split_once(',').unwrap();
@@ -54,6 +56,17 @@ fn parse(stdout: &[u8]) -> (String, Vec<(f64, f64)>) {
         })
         .collect();
     (header, rows)
+}
+
+/// The method line on stderr, and the rows of the CSV on stdout.
+fn parse(out: &Output) -> (String, Vec<(f64, f64)>) {
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    let method = err
+        .lines()
+        .find_map(|l| l.strip_prefix("maglev: bands: "))
+        .unwrap_or_else(|| panic!("no method line on stderr: {err}"))
+        .to_string();
+    (method, parse_csv(&out.stdout).1)
 }
 
 fn assert_ok(out: &Output) {
@@ -70,8 +83,11 @@ fn sine_levels_end_to_end() {
     let input = input.to_str().unwrap();
     let out = maglev(&["bands", "--input", input, "--column", "a"]);
     assert_ok(&out);
-    let (header, rows) = parse(&out.stdout);
-    assert!(header.starts_with('#'));
+    let (header, rows) = parse(&out);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout).lines().next(),
+        Some("centre_hz,level_db_re_1e-6_m_per_s2")
+    );
     for needed in [
         "re 1e-6 m/s^2",
         "acceleration",
@@ -111,7 +127,7 @@ fn sine_levels_end_to_end() {
         "velocity",
     ]);
     assert_ok(&out);
-    let (header, rows) = parse(&out.stdout);
+    let (header, rows) = parse(&out);
     assert!(
         header.contains("re 1e-9 m/s;") && header.contains("displacement"),
         "{header}"
@@ -129,12 +145,15 @@ fn sine_levels_end_to_end() {
     let out_file = maglev(&["bands", "--input", input, "--column", "a", "--out", f]);
     assert_ok(&out_file);
     assert!(out_file.stdout.is_empty());
-    let (_, from_file) = parse(&std::fs::read(&file).unwrap());
+    let (_, from_file) = parse_csv(&std::fs::read(&file).unwrap());
+    let side: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(format!("{f}.json")).unwrap()).unwrap();
+    assert!(side["method"].as_str().unwrap().contains("IEC 61260-1"));
     let running = maglev(&["bands", "--input", input, "--column", "a", "--running", "1"]);
     assert_ok(&running);
-    let (header, rows_running) = parse(&running.stdout);
+    let (header, rows_running) = parse(&running);
     assert!(header.contains("maximum running rms, linear (rectangular) window 1 s (500 samples)"));
-    let from_stdout = parse(&maglev(&["bands", "--input", input, "--column", "a"]).stdout).1;
+    let from_stdout = parse(&maglev(&["bands", "--input", input, "--column", "a"])).1;
     assert_eq!(from_file, from_stdout);
     let r50 = rows_running.iter().find(|r| r.0 == 50.0).unwrap().1;
     assert!((r50 - want).abs() <= 0.1, "{r50} vs {want}");
@@ -242,7 +261,7 @@ fn paper5_histories_agree_with_the_independent_analyser() {
                 column,
             ]);
             assert_ok(&out);
-            let (_, rows) = parse(&out.stdout);
+            let (_, rows) = parse(&out);
             let (v, dt) = bands_reference::read_csv_column(&path, column);
             let t = v.len() as f64 * dt;
             let bands: Vec<i32> = rows
@@ -282,13 +301,9 @@ fn levels_are_finite_or_empty() {
     let input = temp_file("bands_constant.csv", &constant);
     let out = maglev(&["bands", "--input", input.to_str().unwrap(), "--column", "a"]);
     assert_ok(&out);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("an empty level: the band has no energy"));
     let text = String::from_utf8(out.stdout).unwrap();
-    assert!(text
-        .lines()
-        .next()
-        .unwrap()
-        .contains("an empty level: the band has no energy"));
-    let cells: Vec<&str> = text.lines().skip(2).collect();
+    let cells: Vec<&str> = text.lines().skip(1).collect();
     assert_eq!(cells.len(), 27);
     assert!(cells.iter().all(|l| l.ends_with(',')), "{text}");
 
@@ -301,7 +316,7 @@ fn levels_are_finite_or_empty() {
         let input = temp_file("bands_extreme.csv", &s);
         let out = maglev(&["bands", "--input", input.to_str().unwrap(), "--column", "a"]);
         assert_ok(&out);
-        let (_, rows) = parse(&out.stdout);
+        let (_, rows) = parse(&out);
         assert!(rows.iter().all(|r| r.1.is_finite()));
         let want = 20.0 * (amplitude / SQRT_2).log10() + 120.0;
         let l50 = rows.iter().find(|r| r.0 == 50.0).unwrap().1;

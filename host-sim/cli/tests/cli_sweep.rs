@@ -181,6 +181,49 @@ fn a_rerun_skips_the_finished_runs_and_a_grown_axis_runs_only_the_new_ones() {
     assert_eq!(o.status.code(), Some(2));
 }
 
+/// A record of one period of a sine on the bearings (ends at rest), amplitude `a` m/s².
+fn sine_record(a: f64) -> String {
+    let mut text = "t_s,ax_m_per_s2,ay_m_per_s2,az_m_per_s2\n".to_string();
+    for j in 0..=50 {
+        let t = j as f64 * 0.001;
+        let z = a * (2.0 * std::f64::consts::PI * t / 0.05).sin();
+        text += &format!("{t:.3},0,0,{z:e}\n");
+    }
+    text
+}
+
+/// A resumed sweep hashes the record files its runs read, not only the scenario: after the
+/// record changes, every run that read it runs again and results.csv holds only the new
+/// record's values; an unchanged record is skipped as before.
+#[test]
+fn a_changed_record_file_runs_again_the_runs_that_read_it() {
+    let d = scratch("record");
+    let out = d.join("out");
+    let rec = d.join("quake.csv");
+    std::fs::write(&rec, sine_record(1.0)).unwrap();
+    let sp = spec(
+        &d,
+        &format!(
+            "scenario='moving-force'\n[set]\nt_end=0.05\ndt=0.001\n\"support.record\"={:?}\n[axes]\nspeed=[10.0, 20.0]\n[reduce]\nquantities=['peak:midspan_z']\n",
+            s(&rec)
+        ),
+    );
+    let e = ok(&maglev(&["sweep", s(&sp), "--out", s(&out)]));
+    assert!(e.contains("2 run now, 0 skipped"), "{e}");
+    let first = read(&out.join("results.csv"));
+    let e = ok(&maglev(&["sweep", s(&sp), "--out", s(&out)]));
+    assert!(e.contains("0 run now, 2 skipped"), "{e}");
+    std::fs::write(&rec, sine_record(3.0)).unwrap();
+    let e = ok(&maglev(&["sweep", s(&sp), "--out", s(&out)]));
+    assert!(e.contains("2 run now, 0 skipped"), "{e}");
+    let second = read(&out.join("results.csv"));
+    assert_ne!(first, second, "the new record's values");
+    // The same as a fresh sweep of the new record.
+    let fresh = d.join("fresh");
+    ok(&maglev(&["sweep", s(&sp), "--out", s(&fresh)]));
+    assert_eq!(read(&fresh.join("results.csv")), second);
+}
+
 #[test]
 fn a_failing_run_is_recorded_with_its_error_and_the_others_run() {
     let d = scratch("fail");

@@ -166,7 +166,7 @@ fn realtime_on_a_link_too_slow_for_the_rate_fails_without_output() {
         "{err}"
     );
     assert!(
-        last.contains("; achieved ") && last.contains("latency median"),
+        last.contains("; mean pace ") && last.contains("latency median"),
         "{err}"
     );
     assert!(!out.exists(), "a partial output directory was left");

@@ -519,3 +519,74 @@ fn a_settled_pier_from_a_scenario_reaches_the_run() {
     assert!(err.contains("support"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Nothing drifts after a record ends: the small viaduct under `paper-5-quake`'s synthetic
+/// record (10 s, Δt 5 ms) stepped at 1 ms to 11 s, uniformly and with wave passage at
+/// 333 m/s (delays of 0.09 s and 0.18 s, not multiples of the run's step). From the first
+/// step past each pier's record its ground velocity is exactly zero and its displacement
+/// constant; uniformly, where the run's step divides the record's, the ground ends where it
+/// started (to 1e-9 of its peak displacement: the record ends at rest under the trapezoid
+/// rule, and a last sample of zero adds nothing after it). Before, the last sample a_N ≠ 0
+/// left each pier's ground moving at Δt·a_N/2 (1.2e-4 m/s at 1 ms) for ever.
+#[test]
+fn nothing_drifts_after_the_record_ends() {
+    let s: SupportSection = toml::from_str(
+        "[synthetic]\npga_g = 0.1\nground = \"medium\"\nduration_s = 10.0\nseed = 1\n",
+    )
+    .unwrap();
+    let record = s.synthetic.as_ref().unwrap().record().unwrap();
+    let end = record.end();
+    assert_eq!(end, 10.0);
+    let spec = small_viaduct();
+    let dt = 1e-3;
+    let piers = spec.spans + 1;
+    let positions: Vec<f64> = (0..piers).map(|k| k as f64 * 30.0).collect();
+    for (what, motion) in [
+        ("uniform", SupportMotion::uniform(record.clone(), piers)),
+        (
+            "wave passage",
+            SupportMotion::wave_passage(record.clone(), &positions, 333.0).unwrap(),
+        ),
+    ] {
+        let delays: Vec<f64> = positions.iter().map(|x| x / 333.0).collect();
+        let uniform = what == "uniform";
+        let mut v = Viaduct::with_support_motion(&spec, dt, motion).unwrap();
+        let mut peak = [0.0f64; 3];
+        let mut held: Vec<Option<GroundState>> = vec![None; piers];
+        for n in 1..=11_000usize {
+            v.solve_step(&[]);
+            v.commit();
+            let t = n as f64 * dt;
+            for (k, g) in v.ground().unwrap().iter().enumerate() {
+                for (p, d) in peak.iter_mut().zip(g.d) {
+                    *p = p.max(d.abs());
+                }
+                let past = t - if uniform { 0.0 } else { delays[k] } > end + dt;
+                match (&held[k], past) {
+                    (None, true) => {
+                        assert_eq!(g.v, [0.0; 3], "{what} pier {k} at {t} s");
+                        held[k] = Some(*g);
+                    }
+                    (Some(h), _) => {
+                        assert_eq!((g.v, g.d), ([0.0; 3], h.d), "{what} pier {k} at {t} s")
+                    }
+                    _ => {}
+                }
+            }
+        }
+        let last = v.ground().unwrap()[0];
+        println!(
+            "{what}: peak ground displacement {peak:?} m; pier 1's ground ends at {:?} m",
+            last.d
+        );
+        assert!(
+            held.iter().all(Option::is_some),
+            "{what}: every record ended"
+        );
+        if uniform {
+            for (axis, (d, p)) in last.d.iter().zip(peak).enumerate() {
+                assert!(d.abs() <= 1e-9 * p, "axis {axis}: {d} of {p}");
+            }
+        }
+    }
+}

@@ -137,6 +137,8 @@ impl<'a> FirmwareMagnets<'a> {
             }
         }
         check_fault_channels(&hs.sensor_faults, channels.len())?;
+        let state_law = matches!(s.law, maglev_core::LawKind::State(_));
+        super::step_frame::check(ticks, channels.len(), state_law.then_some(v.p0.len()))?;
         let cfg = Config {
             scalar: hs.scalar,
             rate_hz: hs.rate_hz,

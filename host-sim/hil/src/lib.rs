@@ -19,6 +19,7 @@ pub mod compare;
 pub mod coupling;
 pub mod link;
 pub mod realtime;
+pub mod step_frame;
 
 use board::SensorFault;
 use coupling::{EventRecord, FirmwareMagnets};

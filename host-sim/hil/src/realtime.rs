@@ -72,6 +72,9 @@ pub struct RealtimeStats {
     /// The same among the periods after the warm-up (the ones the rule judges).
     pub judged_periods: u64,
     pub judged_misses: u64,
+    /// How far past its deadline the latest-finishing period's `Commit` reply came (s; 0
+    /// when none missed).
+    pub worst_lateness_s: f64,
     /// Periods per second actually achieved: periods / (last commit − first release).
     pub achieved_hz: f64,
     /// Exchange latency (one request to its reply, retransmissions included): median, worst,
@@ -94,6 +97,7 @@ pub struct Paced<'a, C: Clock> {
     periods: u64,
     misses: u64,
     judged_misses: u64,
+    worst_late: Duration,
 }
 
 impl<'a, C: Clock> Paced<'a, C> {
@@ -109,6 +113,7 @@ impl<'a, C: Clock> Paced<'a, C> {
             periods: 0,
             misses: 0,
             judged_misses: 0,
+            worst_late: Duration::ZERO,
         }
     }
 
@@ -135,6 +140,7 @@ impl<'a, C: Clock> Paced<'a, C> {
             deadline_misses: self.misses,
             judged_periods: self.periods.saturating_sub(WARMUP),
             judged_misses: self.judged_misses,
+            worst_lateness_s: self.worst_late.as_secs_f64(),
             achieved_hz: self.periods as f64 / span.as_secs_f64().max(1e-12),
             latency_median_s: median,
             latency_worst_s: sorted.last().copied().unwrap_or(0.0),
@@ -149,16 +155,18 @@ impl<'a, C: Clock> Paced<'a, C> {
             return Err(Error::invalid(
                 "--realtime",
                 format!(
-                    "{:.0} Hz not kept: {} of {} periods after the warm-up missed their \
-                     deadline ({TOO_SLOW}); achieved {:.0} periods/s; exchange latency median \
+                    "{:.0} Hz not kept: {} of {} periods after the warm-up finished past their \
+                     deadline, the latest by {:.3} ms ({TOO_SLOW}); exchange latency median \
                      {:.3} ms, worst {:.3} ms (the rest of a period is the plant's work and the \
-                     scheduler's)",
+                     scheduler's); mean pace {:.0} periods/s (a period is late when it overruns \
+                     its own deadline, whatever the mean)",
                     s.rate_hz,
                     s.judged_misses,
                     s.judged_periods,
-                    s.achieved_hz,
+                    1e3 * s.worst_lateness_s,
                     1e3 * s.latency_median_s,
-                    1e3 * s.latency_worst_s
+                    1e3 * s.latency_worst_s,
+                    s.achieved_hz,
                 ),
             ));
         }
@@ -183,7 +191,9 @@ impl<'a, C: Clock> Paced<'a, C> {
         };
         self.last_done = self.clock.now();
         self.periods += 1;
-        if self.last_done > origin + self.period * (k as u32 + 1) {
+        let deadline = origin + self.period * (k as u32 + 1);
+        if self.last_done > deadline {
+            self.worst_late = self.worst_late.max(self.last_done - deadline);
             self.misses += 1;
             if k >= WARMUP {
                 self.judged_misses += 1;
@@ -368,7 +378,13 @@ mod tests {
             msg.starts_with("--realtime: 1000 Hz not kept: 100 of 100 periods after the warm-up"),
             "{msg}"
         );
-        assert!(msg.contains("achieved 500 periods/s;"), "{msg}");
+        assert!(msg.contains("mean pace 500 periods/s"), "{msg}");
+        // Period k ends at 2(k + 1) ms against its deadline (k + 1) ms: the last judged one,
+        // k = 119, by 120 ms.
+        assert!(
+            msg.contains("finished past their deadline, the latest by 120.000 ms"),
+            "{msg}"
+        );
         assert!(msg.contains("median 0.500 ms, worst 0.500 ms"), "{msg}");
         assert!(!msg.contains('\n'));
         // A short run that ends before the window is judged at its end.

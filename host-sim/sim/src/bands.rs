@@ -567,8 +567,21 @@ pub fn read_history<R: Read>(reader: R, column: &str) -> Result<History, BandsEr
     Ok(History { t0, dt, values })
 }
 
-/// The `#` header line (no newline): reference, quantities and method.
-pub fn header_line(column: &str, n: usize, dt: f64, s: &Settings) -> String {
+/// The level column's name: the level in dB with its reference and unit, as pandas and a
+/// spreadsheet show it (`level_db_re_1e-6_m_per_s2`, `level_db_re_1e-9_m_per_s`).
+pub fn level_column(s: &Settings) -> String {
+    let unit = s
+        .level
+        .quantity()
+        .unit()
+        .replace("m/s^2", "m_per_s2")
+        .replace("m/s", "m_per_s");
+    format!("level_db_re_{:e}_{unit}", s.level.reference())
+}
+
+/// The method in one line: reference, quantities and method (`maglev bands` prints it on
+/// stderr, or writes it to the `--out` file's sidecar; the CSV itself has a plain header).
+pub fn description(column: &str, n: usize, dt: f64, s: &Settings) -> String {
     let q = s.level.quantity();
     let averaging = match s.averaging {
         Averaging::WholeRecord => "whole-record rms".to_string(),
@@ -578,7 +591,7 @@ pub fn header_line(column: &str, n: usize, dt: f64, s: &Settings) -> String {
         ),
     };
     format!(
-        "# maglev bands: {} level L = 20*log10(rms/ref) dB re {:e} {}; column {column:?} is {} \
+        "{} level L = 20*log10(rms/ref) dB re {:e} {}; column {column:?} is {} \
          in {}; IEC 61260-1 base-10 1/3-octave bands (centre_hz nominal, exact f_m = \
          1000*10^(x/10) Hz, edges f_m*10^(+-1/20)); method: the record's mean removed, its spectrum \
          (the record zero outside itself: N = {n}, dt = {dt} s, FFT zero-padded to {padded}) \
@@ -593,18 +606,17 @@ pub fn header_line(column: &str, n: usize, dt: f64, s: &Settings) -> String {
     )
 }
 
-/// Write the `#` header line and the CSV `centre_hz,level_db` (levels to 0.0001 dB; an empty
+/// Write the CSV `centre_hz,<level column>` ([`level_column`]; levels to 0.0001 dB; an empty
 /// level for a band without energy).
 pub fn write_levels<W: Write>(
-    mut w: W,
-    header: &str,
+    w: W,
+    level_column: &str,
     levels: &[BandLevel],
 ) -> Result<(), BandsError> {
     let io = |e: std::io::Error| BandsError::Write(e.to_string());
-    writeln!(w, "{header}").map_err(io)?;
     let mut wr = csv::Writer::from_writer(w);
     let csv_err = |e: csv::Error| BandsError::Write(e.to_string());
-    wr.write_record(["centre_hz", "level_db"])
+    wr.write_record(["centre_hz", level_column])
         .map_err(csv_err)?;
     for l in levels {
         wr.write_record([

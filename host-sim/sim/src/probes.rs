@@ -244,7 +244,11 @@ impl Probes {
             None => DEFAULT.iter().map(|s| s.to_string()).collect(),
         };
         let mut probes = Vec::with_capacity(names.len());
-        for n in &names {
+        for (i, n) in names.iter().enumerate() {
+            // Two columns of one name: response.csv's header would not say which is which.
+            if names[..i].contains(n) {
+                return Err(bad_probe(format!("names {n:?} twice (each probe once)")));
+            }
             // The default set on a forces train: wheel 1's gap is not applicable (empty cells).
             if !e.magnets && n == "wheel1_gap_z" && names.len() == DEFAULT.len() {
                 probes.push(Probe::Wheel {

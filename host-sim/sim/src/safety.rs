@@ -253,6 +253,13 @@ struct MagnetTrack {
     saturated: [usize; 3],
 }
 
+impl MagnetTrack {
+    /// Its coils by index into [`SIDES`]: levitation, and the guidance pair where it has one.
+    fn coils(&self) -> std::ops::Range<usize> {
+        0..if self.guided { 3 } else { 1 }
+    }
+}
+
 /// One contact's running figures.
 #[derive(Clone, Copy, Debug)]
 struct ContactTrack {
@@ -535,7 +542,8 @@ impl Safety {
         // Each coil quantity's largest over every magnet (levitation and guidance).
         let coil_peak = |q: fn(&MagnetTrack) -> &[Extreme; 3]| {
             first_max(
-                ms.iter().flat_map(|m| (0..3).map(move |k| (m, k, q(m)[k]))),
+                ms.iter()
+                    .flat_map(|m| m.coils().map(move |k| (m, k, q(m)[k]))),
                 |a| a.2.value,
             )
             .map(|(m, k, e)| (format!("{}.{}", wheel(m.node), SIDES[k]), e))
@@ -551,9 +559,10 @@ impl Safety {
                 };
                 Figure::new(e.value, "V", Some(at), Some(e.t)).limit(self.voltage_limit, source, le)
             });
-            let saturated = first_max(ms.iter().flat_map(|m| (0..3).map(move |k| (m, k))), |a| {
-                a.0.saturated[a.1] as f64
-            })
+            let saturated = first_max(
+                ms.iter().flat_map(|m| m.coils().map(move |k| (m, k))),
+                |a| a.0.saturated[a.1] as f64,
+            )
             .map(|(m, k)| {
                 let n = m.saturated[k];
                 Figure::new(

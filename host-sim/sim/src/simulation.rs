@@ -165,6 +165,9 @@ pub struct Outcome {
     pub first_collision_t: Option<f64>,
     /// Each magnet's gap range over the run (empty for a moving force).
     pub gap_ranges: GapRanges,
+    /// Per magnet wheel, whether it has guidance magnets (the `left` and `right` of its gap
+    /// and coil ranges mean nothing where it has not: a `unit`).
+    pub guided: Vec<bool>,
     /// Each magnet's coil over the run (empty for a moving force, and where the magnets
     /// report no coil).
     pub coil_ranges: CoilRanges,

@@ -1,6 +1,7 @@
 //! `maglev bands`: one-third-octave band levels of a CSV time history (`crate::bands`,
-//! docs/bands.md) as CSV `centre_hz,level_db` after a `#` line stating the reference, the
-//! quantities and the method.
+//! docs/bands.md) as CSV `centre_hz,level_db_re_…` with a plain header (pandas reads it as it
+//! is); the reference, the quantities and the method on stderr, or in the sidecar
+//! `FILE.json` of `--out FILE`.
 
 use std::io::BufReader;
 use std::path::PathBuf;
@@ -65,6 +66,13 @@ fn settings(a: &Args) -> Settings {
     }
 }
 
+/// The method's sidecar of the CSV at `path`: `levels.csv` → `levels.csv.json`.
+fn sidecar(path: &std::path::Path) -> PathBuf {
+    let mut name = path.as_os_str().to_owned();
+    name.push(".json");
+    PathBuf::from(name)
+}
+
 /// Run the subcommand (the open error of `--input` is given as such).
 pub fn run(a: Args) -> anyhow::Result<()> {
     use anyhow::Context as _;
@@ -85,15 +93,23 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         bands::BandsError::BadWindow { .. } => Error::invalid("--running", e.to_string()),
         _ => Error::invalid(format!("--input {}", a.input.display()), e.to_string()),
     })?;
-    let header = bands::header_line(&a.column, h.values.len(), h.dt, &s);
+    let method = bands::description(&a.column, h.values.len(), h.dt, &s);
     // Made in memory (a few kB), then written where it goes: a failed write keeps its
     // kind (a reader gone from stdout ends quietly, crate::cli::stdout).
     let mut text = Vec::new();
-    bands::write_levels(&mut text, &header, &levels)
+    bands::write_levels(&mut text, &bands::level_column(&s), &levels)
         .map_err(|e| Error::numerical(format!("internal: {e}")))?;
     match &a.out {
-        Some(path) => std::fs::write(path, &text).map_err(|e| Error::io(path, e))?,
-        None => crate::cli::stdout::print(&String::from_utf8_lossy(&text))?,
+        Some(path) => {
+            std::fs::write(path, &text).map_err(|e| Error::io(path, e))?;
+            let side = sidecar(path);
+            let json = serde_json::json!({ "csv": path.file_name().map(|n| n.to_string_lossy()), "method": method });
+            std::fs::write(&side, json.to_string() + "\n").map_err(|e| Error::io(&side, e))?;
+        }
+        None => {
+            eprintln!("maglev: bands: {method}");
+            crate::cli::stdout::print(&String::from_utf8_lossy(&text))?
+        }
     }
     Ok(())
 }

@@ -1,4 +1,4 @@
-//! `maglev ground green --vs V --nu NU --rho RHO --xi XI --f F --r R [--format json|text]`:
+//! `maglev ground green --vs V --nu NU --rho-t-per-m3 RHO --xi XI --f F --r R [--format json|text]`:
 //! the half-space Green's function at one frequency and distance (`crate::ground::green`,
 //! docs/ground.md): vertical surface displacement per newton of a vertical point load,
 //! load down, displacement positive down, time factor e^{+iωt}.
@@ -34,9 +34,9 @@ pub struct GreenArgs {
     /// Poisson's ratio, in [0, 0.49].
     #[arg(long, allow_negative_numbers = true)]
     pub nu: f64,
-    /// Density (kg/m³).
-    #[arg(long, allow_negative_numbers = true)]
-    pub rho: f64,
+    /// Density in t/m³, as `[soil] density_t_per_m3` (0.5 to 5).
+    #[arg(long = "rho-t-per-m3", allow_negative_numbers = true)]
+    pub rho_t_per_m3: f64,
     /// Hysteretic damping ratio ξ (μ* = μ(1 + 2iξ)), in [0.001, 0.25].
     #[arg(long, allow_negative_numbers = true)]
     pub xi: f64,
@@ -68,7 +68,7 @@ pub fn green(a: &GreenArgs) -> crate::Result<[f64; 2]> {
     let soil = Soil {
         shear_wave_velocity: checked("--vs", a.vs, false)?,
         poisson: a.nu,
-        density: checked("--rho", a.rho, false)?,
+        density: crate::input::case::soil_density("--rho-t-per-m3", a.rho_t_per_m3)?,
         damping: a.xi,
     };
     let f = checked("--f", a.f, true)?;

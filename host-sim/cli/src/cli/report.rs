@@ -57,6 +57,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         start.elapsed().as_secs_f64()
     );
     out.put("ground-levels.csv", &ground::csv(&ground))?;
+    out.put("ground-overall.csv", &ground::overall_csv(&ground))?;
     out.put("ground-levels.svg", &ground::figure(&ground)?)?;
     for (g, r) in ground.iter().zip(&runs) {
         out.put(

@@ -43,7 +43,7 @@ pub fn strict_violation(outcome: &Outcome, h0: f64) -> Option<String> {
             outcome.collision_steps
         ));
     }
-    gap_ranges(&outcome.gap_ranges)
+    gap_ranges(&outcome.gap_ranges, &outcome.guided)
         .into_iter()
         .find(|g| !(g.min_m > 0.0 && g.max_m < 2.0 * h0))
         .map(|g| {

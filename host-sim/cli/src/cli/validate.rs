@@ -32,6 +32,7 @@ pub struct Args {
 
 pub fn run_cmd(args: Args) -> anyhow::Result<()> {
     crate::studies::validation::check_sets(&args.sets)?;
+    owned::plain_name("--report", &args.report)?;
     owned::check(&args.out, &[&args.report, "validation.json"])?;
     let mut bar = Progress::steps("validate", RUNS);
     let out = validate(&args.sets, args.scheme, |what| bar.step(what))?;

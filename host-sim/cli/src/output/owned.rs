@@ -25,9 +25,26 @@ fn listed(dir: &Path) -> Result<Vec<String>> {
     Ok(text.lines().map(str::to_string).collect())
 }
 
+/// `Ok` when `name` is a plain file name (one component, not `.` or `..`), so that it lands
+/// inside the directory it is joined to; else the error naming `key` (`--report ../notes.md`
+/// would replace a file beside `--out`, outside it).
+pub fn plain_name(key: &str, name: &str) -> Result<()> {
+    let mut parts = Path::new(name).components();
+    match (parts.next(), parts.next()) {
+        (Some(std::path::Component::Normal(n)), None) if n == name => Ok(()),
+        _ => Err(Error::invalid(
+            key,
+            format!("must be a file name inside --out (no directory, `..` or `/`), got {name:?}"),
+        )),
+    }
+}
+
 /// `Ok` when `names` may be written into `dir` (module docs), else the `--out` error naming
-/// the first file that is not ours.
+/// the first file that is not ours (or not a plain file name, [`plain_name`]).
 pub fn check(dir: &Path, names: &[&str]) -> Result<()> {
+    for n in names {
+        plain_name(&format!("--out {}: file", dir.display()), n)?;
+    }
     let refuse = |why: String| {
         Err(Error::invalid(
             format!("--out {}", dir.display()),
@@ -96,5 +113,36 @@ mod tests {
         let e = write(&d, &files("report.md")).unwrap_err().to_string();
         assert!(e.contains("not a maglev validation output"), "{e}");
         std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    /// A name that leaves the directory is refused before anything is written, naming the
+    /// key; the file beside the directory is untouched.
+    #[test]
+    fn a_name_outside_the_directory_is_refused() {
+        let root = std::env::temp_dir().join(format!("maglev-owned-out-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        let d = root.join("v");
+        std::fs::create_dir_all(&d).unwrap();
+        std::fs::write(root.join("notes.md"), "mine").unwrap();
+        for name in ["../notes.md", "sub/report.md", "/tmp/report.md", "..", "."] {
+            let e = plain_name("--report", name).unwrap_err().to_string();
+            assert!(
+                e.starts_with("--report: must be a file name"),
+                "{name}: {e}"
+            );
+            let e = write(&d, &[(name.to_string(), "report".to_string())])
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("must be a file name inside --out"),
+                "{name}: {e}"
+            );
+        }
+        assert_eq!(
+            std::fs::read_to_string(root.join("notes.md")).unwrap(),
+            "mine"
+        );
+        plain_name("--report", "validation.md").unwrap();
+        std::fs::remove_dir_all(&root).unwrap();
     }
 }

@@ -106,6 +106,9 @@ pub struct Staging {
     /// The [`PARTIAL`] file, held locked while the run lives (module docs); `None` where the
     /// file system has no locks.
     _alive: Option<std::fs::File>,
+    /// The parent directories this run created for `--out`, deepest first: removed again
+    /// (when still empty) by a run that does not finish.
+    made: Vec<PathBuf>,
 }
 
 impl Staging {
@@ -137,6 +140,7 @@ impl Staging {
         };
         clean_stale(&parent, &name, target, kind);
         kind.may_replace(target, target)?;
+        let made = missing_ancestors(&parent);
         std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
         let pid = std::process::id();
         let tmp = parent.join(format!(".{name}.partial-{pid}"));
@@ -148,6 +152,7 @@ impl Staging {
             tmp,
             kind,
             _alive: alive,
+            made,
         })
     }
 
@@ -165,7 +170,17 @@ impl Staging {
     /// Moves the complete run into place, replacing the previous output of its kind there.
     /// What is at `--out` now is checked again (module docs): anything else stays, and the
     /// run is refused.
-    pub fn finish(self) -> Result<()> {
+    pub fn finish(mut self) -> Result<()> {
+        let made = std::mem::take(&mut self.made);
+        let finished = self.move_into_place();
+        if finished.is_err() {
+            self.made = made;
+        }
+        finished
+    }
+
+    /// [`Self::finish`] but for the parents it keeps.
+    fn move_into_place(&self) -> Result<()> {
         let (marker, _, text) = self.kind.marker();
         self.put(marker, text)?;
         let _ = std::fs::remove_file(self.tmp.join(PARTIAL));
@@ -200,6 +215,14 @@ impl Staging {
         }
         Ok(())
     }
+}
+
+/// The ancestors of `dir` that do not exist, `dir` first (what `create_dir_all` will make).
+fn missing_ancestors(dir: &Path) -> Vec<PathBuf> {
+    dir.ancestors()
+        .take_while(|a| !a.as_os_str().is_empty() && !a.exists())
+        .map(Path::to_path_buf)
+        .collect()
 }
 
 /// Creates staging directory `tmp` with its [`PARTIAL`] file locked (module docs). The file
@@ -319,6 +342,10 @@ impl Drop for Staging {
     fn drop(&mut self) {
         let _ = std::fs::remove_dir_all(&self.tmp);
         interrupt::unregister(&self.tmp);
+        // Deepest first; `remove_dir` keeps one that something else filled meanwhile.
+        for d in &self.made {
+            let _ = std::fs::remove_dir(d);
+        }
     }
 }
 
@@ -331,6 +358,42 @@ mod tests {
         let _ = std::fs::remove_dir_all(&d);
         std::fs::create_dir_all(&d).unwrap();
         d
+    }
+
+    /// A run that does not finish (an error, a panic) removes the parents it made for
+    /// `--out`, and only those; one that finishes keeps them.
+    #[test]
+    fn an_unfinished_run_removes_the_parents_it_made() {
+        let root = scratch("parents");
+        let out = root.join("a/b/c/out");
+        let s = Staging::new(&out).unwrap();
+        s.put("response.csv", "t\n").unwrap();
+        assert!(root.join("a/b/c").is_dir());
+        let panicked = std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || {
+            let _owned = s;
+            panic!("the run panicked");
+        }));
+        assert!(panicked.is_err());
+        assert!(
+            !root.join("a").exists(),
+            "left {:?}",
+            std::fs::read_dir(&root).unwrap().collect::<Vec<_>>()
+        );
+        assert!(root.is_dir(), "a directory that existed stays");
+        // Dropped on an error, with a file put in a parent meanwhile: that parent stays.
+        let s = Staging::new(&out).unwrap();
+        std::fs::write(root.join("a/note"), "mine").unwrap();
+        drop(s);
+        assert!(!root.join("a/b").exists());
+        assert_eq!(
+            std::fs::read_to_string(root.join("a/note")).unwrap(),
+            "mine"
+        );
+        std::fs::remove_file(root.join("a/note")).unwrap();
+        // Finished: kept.
+        Staging::new(&out).unwrap().finish().unwrap();
+        assert!(out.join(MARKER).is_file());
+        std::fs::remove_dir_all(&root).unwrap();
     }
 
     #[test]

@@ -87,7 +87,7 @@ fn run(base: &Case, changes: Changes) -> Result<RunHistories> {
         )));
     }
     Ok(RunHistories {
-        gaps: gap_ranges(&o.gap_ranges),
+        gaps: gap_ranges(&o.gap_ranges, &o.guided),
         collision_steps: o.collision_steps,
         rows,
         mean_iterations: o.total_iterations as f64 / o.steps as f64,

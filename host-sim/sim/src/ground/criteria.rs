@@ -127,6 +127,7 @@ pub fn summary(names: &[String], points: &[[f64; 2]], levels: &[ReceiverLevels])
         .collect();
     json!({
         "levels": "ground-levels.csv",
+        "levels_method": crate::ground::levels::levels_method(),
         "fta": "FTA Report No. 0123 (2018), Table 6-3, general assessment: overall maximum 1-s rms level (VdB re 1 uin/s) > criterion = impact; categories 1, 2, 3 x frequent, occasional, infrequent events",
         "din4150_3": "DIN 4150-3 Table 1, foundation, short-term: PPV (vertical) > guideline value at the dominant band's frequency = exceeded; building types 1, 2, 3",
         "receivers": receivers,

@@ -110,16 +110,24 @@ pub fn of_velocity(v: &[f64], dt: f64) -> Result<ReceiverLevels, BandsError> {
     })
 }
 
-/// ground-levels.csv: one row per receiver and band, then one `overall` row per receiver;
+/// How ground-levels.csv's levels are made: summary.json's `ground.levels_method` (the CSV
+/// holds numbers under a plain header, so a bare `pandas.read_csv` reads it).
+pub fn levels_method() -> String {
+    format!(
+        "vertical velocity at each receiver; IEC 61260-1 base-10 1/3-octave bands (centre_hz \
+         nominal) by maglev bands' band integration; record = rms over the whole record, \
+         max_1s = maximum running rms, linear window {RUNNING_WINDOW_S} s; vdb = VdB re \
+         2.54e-8 m/s (1 uin/s); the overall levels (all frequencies to Nyquist) are each \
+         receiver's overall_* in summary.json"
+    )
+}
+
+/// ground-levels.csv: one row per receiver and band (the overall levels are in summary.json);
 /// levels to 0.01 dB, an empty cell where there is no level.
 pub fn csv(names: &[String], levels: &[ReceiverLevels]) -> String {
     use std::fmt::Write as _;
-    let mut s = format!(
-        "# maglev ground levels: vertical velocity at each receiver; IEC 61260-1 base-10 \
-         1/3-octave bands (centre_hz nominal) by maglev bands' band integration; record = rms \
-         over the whole record, max_1s = maximum running rms, linear window {RUNNING_WINDOW_S} s; \
-         dB re 1e-9 m/s and VdB re 2.54e-8 m/s (1 uin/s); overall = all frequencies to Nyquist\n\
-         receiver,centre_hz,max_1s_vdb,max_1s_db,record_vdb,record_db\n"
+    let mut s = String::from(
+        "receiver,centre_hz,max_1s_vdb,max_1s_db_re_1e-9_m_per_s,record_vdb,record_db_re_1e-9_m_per_s\n",
     );
     let cell = |x: Option<f64>| x.map_or(String::new(), |d| format!("{d:.2}"));
     let row = |s: &mut String, name: &str, band: &str, run: Option<f64>, rec: Option<f64>| {
@@ -137,13 +145,6 @@ pub fn csv(names: &[String], levels: &[ReceiverLevels]) -> String {
             let hz = format!("{}", b.band.nominal_hz());
             row(&mut s, name, &hz, b.max_running_db, b.record_db);
         }
-        row(
-            &mut s,
-            name,
-            "overall",
-            l.overall_max_running_db,
-            l.overall_record_db,
-        );
     }
     s
 }

@@ -661,6 +661,13 @@ fn full_key(key: &str) -> &str {
 pub const MAX_KEY_PARTS: usize = 4;
 
 fn apply_set(table: &mut toml::Table, set: &str) -> Result<()> {
+    // One override is one line: a newline would let the value's TOML carry more keys.
+    if set.contains(['\n', '\r']) {
+        return Err(Error::invalid(
+            format!("--set `{}`", set.escape_default()),
+            "must be one line (key=value, no newline)",
+        ));
+    }
     let (key, value) = set
         .split_once('=')
         .ok_or_else(|| Error::invalid(format!("--set `{set}`"), "expected key=value"))?;

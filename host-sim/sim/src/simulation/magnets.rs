@@ -12,7 +12,7 @@ use maglev_core::guidance;
 use maglev_core::levitation::batch::update_batch;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::levitation::{Output, State};
-use maglev_core::{Law, LawParams, LawState, Levitation, Measurement, Status};
+use maglev_core::{Law, LawKind, LawParams, LawState, Levitation, Measurement, Params, Status};
 
 struct WheelCtl {
     /// The law of the wheel's three magnets.
@@ -32,6 +32,21 @@ enum Pending {
     Batch,
     /// In `trial`.
     General,
+}
+
+/// The law of one magnet wheel as a run compiles it: `controller` with the wheel's static load
+/// `p0` (N) and the run's step `dt` (s), under `kind`; a refusal names `controller`. Every
+/// check a run makes of its law is this one, so `maglev stability --scenario` calls it too
+/// and never judges a law a run refuses.
+pub fn compile_law(controller: &Params, kind: LawKind, p0: f64, dt: f64) -> Result<Law<f64>> {
+    let magnet = Params {
+        p0,
+        dt,
+        ..*controller
+    };
+    LawParams { magnet, kind }
+        .compile::<f64>()
+        .map_err(|e| Error::invalid("controller", e.to_string()))
 }
 
 /// The core's controllers of every wheel, committed and trial states. [`CoreMagnets::new`]
@@ -73,15 +88,7 @@ impl CoreMagnets {
     pub fn for_train(v: &Train, gaps0: &[WheelGaps], s: &Settings) -> Result<Self> {
         let mut ctl = Vec::with_capacity(v.wheels.len());
         for (&p0, &(h_init, gy)) in v.p0.iter().zip(gaps0) {
-            let mut magnet = s.controller;
-            magnet.p0 = p0;
-            magnet.dt = s.dt;
-            let law = LawParams {
-                magnet,
-                kind: s.law,
-            }
-            .compile::<f64>()
-            .map_err(|e| Error::invalid("controller", e.to_string()))?;
+            let law = compile_law(&s.controller, s.law, p0, s.dt)?;
             ctl.push(WheelCtl {
                 lev_state: law.equilibrium_state(h_init),
                 pair: law.pair_equilibrium_state(gy),

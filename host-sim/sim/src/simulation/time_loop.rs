@@ -509,6 +509,12 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
             collision_steps: t.collision_steps,
             first_collision_t: t.first_collision_t,
             gap_ranges: t.gap_ranges,
+            guided: self
+                .train
+                .wheels
+                .iter()
+                .map(|w| w.dof_y.is_some())
+                .collect(),
             coil_ranges: t.coil_ranges,
             contact_loss_steps: t.contact_loss_steps,
             contact_ranges: t.contact_ranges,

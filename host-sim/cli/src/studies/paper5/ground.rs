@@ -347,10 +347,12 @@ pub fn comparison(trains: &[TrainGround]) -> String {
     md
 }
 
-/// `train,distance_m,centre_hz,max_1s_vdb,record_vdb` for the receivers at [`DISTANCES`].
+/// `train,distance_m,centre_hz,max_1s_vdb,record_vdb` for the receivers at [`DISTANCES`]
+/// (vertical velocity levels beside pier 20, VdB re 2.54e-8 m/s; max_1s = maximum 1-s running
+/// rms, record = whole record), one row per band, under a plain header; the overall levels are
+/// [`overall_csv`]'s.
 pub fn csv(trains: &[TrainGround]) -> String {
-    let mut s = String::from("# ground receivers beside pier 20: vertical velocity levels, VdB re 2.54e-8 m/s; max_1s = maximum 1-s running rms, record = whole record; overall = all frequencies\ntrain,distance_m,centre_hz,max_1s_vdb,record_vdb\n");
-    let cell = |x: Option<f64>| x.map_or(String::new(), |d| format!("{:.2}", vdb(d)));
+    let mut s = String::from("train,distance_m,centre_hz,max_1s_vdb,record_vdb\n");
     for g in trains {
         for (d, l) in DISTANCES.iter().zip(&g.levels) {
             for b in &l.bands {
@@ -359,18 +361,34 @@ pub fn csv(trains: &[TrainGround]) -> String {
                     "{},{d},{},{},{}",
                     g.train,
                     b.band.nominal_hz(),
-                    cell(b.max_running_db),
-                    cell(b.record_db)
+                    level_cell(b.max_running_db),
+                    level_cell(b.record_db)
                 );
             }
+        }
+    }
+    s
+}
+
+/// `train,distance_m,max_1s_vdb,record_vdb`: the overall levels (all frequencies) of the
+/// receivers at [`DISTANCES`], as [`csv`] writes the bands'.
+pub fn overall_csv(trains: &[TrainGround]) -> String {
+    let mut s = String::from("train,distance_m,max_1s_vdb,record_vdb\n");
+    for g in trains {
+        for (d, l) in DISTANCES.iter().zip(&g.levels) {
             let _ = writeln!(
                 s,
-                "{},{d},overall,{},{}",
+                "{},{d},{},{}",
                 g.train,
-                cell(l.overall_max_running_db),
-                cell(l.overall_record_db)
+                level_cell(l.overall_max_running_db),
+                level_cell(l.overall_record_db)
             );
         }
     }
     s
+}
+
+/// A level in VdB to 0.01 dB, empty where there is none.
+fn level_cell(db: Option<f64>) -> String {
+    db.map_or(String::new(), |d| format!("{:.2}", vdb(d)))
 }

@@ -242,9 +242,10 @@ pub fn figure(maglev: &TrainLevels, wheel_rail: &TrainLevels) -> Result<String> 
     )
 }
 
-/// `train,point,centre_hz,level_db` for both trains and both points.
+/// `train,point,centre_hz,level_db_re_1e-6_m_per_s2` (1/3-octave band levels of the whole
+/// record) for both trains and both points, under a plain header.
 pub fn bands_csv(maglev: &TrainLevels, wheel_rail: &TrainLevels) -> String {
-    let mut s = String::from("# 1/3-octave band levels, whole record, dB re 1e-6 m/s^2\ntrain,point,centre_hz,level_db\n");
+    let mut s = String::from("train,point,centre_hz,level_db_re_1e-6_m_per_s2\n");
     for (train, lv) in [("maglev", maglev), ("wheel-rail", wheel_rail)] {
         for (point, l) in [(CARRIAGE, &lv.carriage), (PIER, &lv.pier)] {
             for b in l {

@@ -70,8 +70,25 @@ fn case(spec: &Spec, run: Option<&Run>) -> Result<(crate::input::case::Case, Red
     Ok((case, reducer))
 }
 
+/// The hash of the files `run` reads now ([`super::inputs`]); `None` when they cannot be read
+/// (the run is then run again, and its record says why it failed).
+fn inputs(spec: &Spec, run: &Run) -> Option<String> {
+    let sc = crate::input::scenario::load(&spec.scenario, &run.sets(spec)).ok()?;
+    super::inputs::inputs_fnv1a(&sc).ok()
+}
+
 /// Runs one run to its record; never fails (a failure is the record's).
 pub fn run_one(spec: &Spec, run: &Run) -> Record {
+    let inputs_fnv1a = inputs(spec, run).unwrap_or_default();
+    let record = run_uncaught(spec, run);
+    Record {
+        inputs_fnv1a,
+        ..record
+    }
+}
+
+/// [`run_one`] but for the inputs' hash.
+fn run_uncaught(spec: &Spec, run: &Run) -> Record {
     let start = Instant::now();
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| -> Result<_> {
         let (case, mut reducer) = case(spec, Some(run))?;
@@ -112,6 +129,7 @@ pub fn run_one(spec: &Spec, run: &Run) -> Record {
                 error,
                 steps,
                 wall_s,
+                inputs_fnv1a: String::new(),
             }
         }
         Ok(Err(e)) => failed(run, one_line(e.to_string()), wall_s),
@@ -146,6 +164,7 @@ fn failed(run: &Run, error: String, wall_s: f64) -> Record {
         error,
         steps: 0,
         wall_s,
+        inputs_fnv1a: String::new(),
     }
 }
 
@@ -188,7 +207,10 @@ pub fn sweep(spec: &Spec, out: &Path, opts: &Options) -> Result<Report> {
         .iter()
         .filter(|r| match before.get(&r.id) {
             None => true,
-            Some(rec) => opts.retry_failed && rec.status == Status::Failed,
+            Some(rec) => {
+                (opts.retry_failed && rec.status == Status::Failed)
+                    || inputs(spec, r).as_ref() != Some(&rec.inputs_fnv1a)
+            }
         })
         .collect();
     let bar = if opts.progress {

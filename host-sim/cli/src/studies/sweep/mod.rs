@@ -17,6 +17,7 @@
 //! - [`slurm`]: the job-array scripts for a cluster.
 
 pub mod execute;
+pub mod inputs;
 pub mod merge;
 pub mod plot;
 pub mod reduce;

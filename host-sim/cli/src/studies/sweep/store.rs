@@ -112,6 +112,11 @@ pub struct Record {
     pub steps: usize,
     /// Wall seconds, set-up included.
     pub wall_s: f64,
+    /// FNV-1a of the files the run read besides the scenario (its `[support]` records,
+    /// `super::inputs`); absent when it read none. A resumed sweep runs a run again when its
+    /// files hash otherwise now.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub inputs_fnv1a: String,
 }
 
 pub use crate::output::write_atomic;

@@ -15,6 +15,13 @@ pub const MAX_STEPS: f64 = 1e7;
 /// The time steps of `t_end` at `dt`, at most [`MAX_STEPS`].
 pub(super) fn steps(t_end: f64, dt: f64) -> Result<f64> {
     let steps = t_end / dt;
+    // A run takes t_end / dt rounded steps: below one it would write a run of none.
+    if steps.round() < 1.0 {
+        return Err(Error::invalid(
+            "run.t_end_s",
+            format!("must be at least one step, run.dt_s = {dt:e} s, got {t_end:e}"),
+        ));
+    }
     if steps.is_nan() || steps > MAX_STEPS {
         return Err(Error::invalid(
             "run.t_end_s",

@@ -36,7 +36,7 @@ pub use changes::Changes;
 pub use checks::MAX_MAGNITUDE;
 pub use controller::LawChoice;
 pub use train::{fig6, TrainCase, MAX_CARS, MAX_LOADS};
-pub use viaduct::{MAX_PIER_ELEMENTS, MAX_RECEIVERS};
+pub use viaduct::{soil_density, MAX_PIER_ELEMENTS, MAX_RECEIVERS};
 
 use crate::input::scenario::{self, BridgeKind, Model, Scenario};
 use crate::physics::fe::newmark::Rayleigh;
@@ -325,6 +325,13 @@ mod tests {
             ("dt=1e-12", "run.t_end_s"),
             ("t_end=1e12", "run.t_end_s"),
             ("t_end=nan", "run.t_end_s"),
+            ("t_end=1e-300", "run.t_end_s"),
+            ("speed=50\nx=1", "--set `speed=50\\nx=1`"),
+            ("speed=50\rx=1", "--set `speed=50\\rx=1`"),
+            (
+                "output.probes=[\"wheel1_gap_z\", \"wheel1_gap_z\"]",
+                "output.probes",
+            ),
             ("elements=100000", "run.elements_per_span"),
             ("elements=0", "run.elements_per_span"),
             ("modes=0", "run.modes"),
@@ -368,7 +375,18 @@ mod tests {
             let path = entry.unwrap().path();
             let data = std::fs::read_to_string(&path).unwrap();
             let (text, sets) = data.split_once('\0').unwrap_or((&data, ""));
-            let sets: Vec<String> = sets.lines().map(str::to_owned).collect();
+            // The record files of the `[support]` seeds are named from fuzz/, where the
+            // fuzzer runs (make-corpus.sh).
+            let fuzz = dir
+                .parent()
+                .and_then(|d| d.parent())
+                .unwrap()
+                .display()
+                .to_string();
+            let sets: Vec<String> = sets
+                .lines()
+                .map(|s| s.replace("records/", &format!("{fuzz}/records/")))
+                .collect();
             let text = scenario::BUNDLED
                 .iter()
                 .find(|(n, _)| *n == text)

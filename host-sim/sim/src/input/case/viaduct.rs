@@ -179,6 +179,19 @@ fn record_text(path: &str) -> Result<String> {
     crate::input::read_text(p)
 }
 
+/// A soil density given in t/m³ (as `[soil]` and `ground green --rho-t-per-m3` take it),
+/// checked and in kg/m³; `key` names it in the error. The one unit and range of soil density
+/// at every edge.
+pub fn soil_density(key: &str, t_per_m3: f64) -> Result<f64> {
+    Ok(positive_within(
+        key,
+        t_per_m3,
+        0.5,
+        5.0,
+        "t/m³: peat (about 1) to dense rock (about 3)",
+    )? * 1e3)
+}
+
 /// `[soil]` in SI, checked: one soil for the footings and the ground.
 pub(super) fn soil(s: &SoilSection) -> Result<Soil> {
     let poisson = s.poisson;
@@ -206,13 +219,7 @@ pub(super) fn soil(s: &SoilSection) -> Result<Soil> {
             5000.0,
             "m/s: peat (about 30) to hard rock (about 3500)",
         )?,
-        density: positive_within(
-            "soil.density_t_per_m3",
-            s.density_t_per_m3,
-            0.5,
-            5.0,
-            "t/m³: peat (about 1) to dense rock (about 3)",
-        )? * 1e3,
+        density: soil_density("soil.density_t_per_m3", s.density_t_per_m3)?,
         poisson,
         damping,
     })

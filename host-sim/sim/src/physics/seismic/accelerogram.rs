@@ -20,7 +20,8 @@
 //!    (`maglev_core::irregularity`, one stream per component). The sum on the uniform grid is
 //!    one inverse real FFT; the test holds it against the direct sum.
 //! 2. **Envelope** (the Jennings, Housner & Tsai 1968 shape): (t/t₁)² while rising, 1 over the
-//!    strong motion, e^{−c(t−t₂)} after t₂.
+//!    strong motion, e^{−c(t−t₂)} after t₂; tapered to zero over the record's last 5 % (at
+//!    most 1 s) so that the record's last sample is zero ([`tapered_envelope`]).
 //! 3. **Baseline**: a record used as support motion must end at rest, or the supports drift
 //!    away. `a − e(t)(α + βt)` with α, β chosen so that velocity and displacement integrated by
 //!    the trapezoid rule (which is what Newmark's average acceleration does to a prescribed
@@ -41,13 +42,21 @@ pub const G: f64 = 9.80665;
 /// Fewest samples a record may have (fewer leave too few frequencies for a random signal).
 pub const MIN_SAMPLES: usize = 64;
 
-/// The stream constants XORed into the seed, one per component, so that x, y and z of one
-/// seed are independent draws (as Y and Z of the irregularity are).
+/// The stream constants, one per component (ASCII `"quake-X"`, `"quake-Y"`, `"quake-Z"`).
 const STREAMS: [u64; 3] = [
-    0x7A11_5EED_0000_0001,
-    0x7A11_5EED_0000_0002,
-    0x7A11_5EED_0000_0003,
+    0x0071_7561_6B65_2D58,
+    0x0071_7561_6B65_2D59,
+    0x0071_7561_6B65_2D5A,
 ];
+
+/// The generator of component `c` of `seed`: the seed is mixed before its stream constant is
+/// XORed in and mixed again, so two (seed, component) pairs share a stream only if
+/// `mix(s₁) ⊕ mix(s₂)` equals the XOR of two stream constants, a chance of 2⁻⁶⁴ per pair.
+/// (XORing the constant into the raw seed, as before, made seed 1's x seed 2's y whenever the
+/// constants differed in the seed's low bits.)
+fn stream(seed: u64, c: usize) -> SplitMix64 {
+    SplitMix64::new(SplitMix64::mix(SplitMix64::mix(seed) ^ STREAMS[c]))
+}
 
 /// The ground's filters: Kanai–Tajimi (ω_g, ζ_g) and the Clough–Penzien high-pass (ω_f, ζ_f).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -273,12 +282,12 @@ impl Spec {
 pub fn synthesize(spec: &Spec, name: KeyName) -> Result<Accelerogram> {
     let n = spec.samples(name)?;
     let dt = spec.dt_s;
-    let envelope: Vec<f64> = (0..n).map(|j| spec.envelope.at(j as f64 * dt)).collect();
+    let envelope = tapered_envelope(&spec.envelope, n, dt);
     let component = |c: usize, peak: f64| -> Result<Vec<f64>> {
         if peak == 0.0 {
             return Ok(vec![0.0; n]);
         }
-        let mut rng = SplitMix64::new(SplitMix64::mix(spec.seed ^ STREAMS[c]));
+        let mut rng = stream(spec.seed, c);
         let mut a = stationary(&spec.filter, n, dt, &mut rng);
         for (a, e) in a.iter_mut().zip(&envelope) {
             *a *= e;
@@ -294,6 +303,34 @@ pub fn synthesize(spec: &Spec, name: KeyName) -> Result<Accelerogram> {
         y: component(1, spec.pga)?,
         z: component(2, spec.pga * spec.vertical_ratio)?,
     })
+}
+
+/// The longest end taper (s) and its share of the record ([`tapered_envelope`]).
+pub const END_TAPER: (f64, f64) = (1.0, 0.05);
+
+/// The envelope e(t) at the `n` samples, times a half-cosine taper from 1 to 0 over the
+/// record's last [`END_TAPER`] (5 % of it, at most 1 s), exactly 0 at the last sample: the
+/// record then ends at zero acceleration, so the ground's step from its last sample to the
+/// zero after it adds nothing (a last sample a_N ≠ 0 left Δt·a_N/2 of velocity per run and a
+/// drift that never ended), and the correction of step 3, proportional to the same envelope,
+/// keeps it zero.
+pub fn tapered_envelope(e: &Envelope, n: usize, dt: f64) -> Vec<f64> {
+    let span = (n - 1) as f64 * dt;
+    let taper = END_TAPER.0.min(END_TAPER.1 * span);
+    (0..n)
+        .map(|j| {
+            let t = j as f64 * dt;
+            let into = t - (span - taper);
+            let w = if j + 1 == n {
+                0.0
+            } else if into > 0.0 {
+                0.5 * (1.0 + (std::f64::consts::PI * into / taper).cos())
+            } else {
+                1.0
+            };
+            e.at(t) * w
+        })
+        .collect()
 }
 
 /// Step 1: `n` samples of the stationary sum, by one inverse real FFT of even length m ≥ n.
@@ -356,7 +393,8 @@ fn at_rest(a: &mut [f64], envelope: &[f64], dt: f64) -> Result<()> {
 mod tests {
     use super::*;
 
-    fn spec() -> Spec {
+    /// The default record of seed 7 (the independence test varies the seed).
+    pub(super) fn spec() -> Spec {
         Spec {
             filter: GroundFilter::MEDIUM,
             envelope: Envelope {
@@ -450,6 +488,7 @@ mod tests {
                 "final displacement {d}"
             );
             assert_eq!(a[0], 0.0, "the envelope starts at zero");
+            assert_eq!(a[a.len() - 1], 0.0, "the last sample is zero");
         }
     }
 
@@ -536,3 +575,7 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "accelerogram_independence.rs"]
+mod independence;

@@ -38,17 +38,26 @@ pub struct GroundRecord {
     samples: Vec<[f64; AXES]>,
 }
 
+/// The sample steps a record may have (s): `maglev accelerogram`'s limits (Nyquist above 5 Hz,
+/// at most 10 kHz), for a record read from a file too.
+pub const DT_LIMITS_S: (f64, f64) = (1e-4, 0.1);
+
+/// How close to rest a record read from a file must end: its last sample and its final
+/// velocity within this fraction of their peaks ([`GroundRecord::check_at_rest`]).
+pub const AT_REST: f64 = 1e-3;
+
 /// The CSV header of a record (`maglev accelerogram`'s).
 pub const HEADER: &str = "t_s,ax_m_per_s2,ay_m_per_s2,az_m_per_s2";
 
 impl GroundRecord {
-    /// A record of `samples` at the step `dt`; every value finite, `dt` > 0, at least one
-    /// sample.
+    /// A record of `samples` at the step `dt`; every value finite, `dt` within
+    /// [`DT_LIMITS_S`], at least one sample.
     pub fn new(dt: f64, samples: Vec<[f64; AXES]>) -> crate::Result<Self> {
-        if !(dt.is_finite() && dt > 0.0) {
+        let (lo, hi) = DT_LIMITS_S;
+        if !(dt.is_finite() && (lo..=hi).contains(&dt)) {
             return Err(Error::invalid(
                 "support.record.dt",
-                format!("must be > 0, got {dt}"),
+                format!("must be within [{lo}, {hi}] s (the sample step of a ground-acceleration record), got {dt:e}"),
             ));
         }
         if samples.is_empty() {
@@ -114,7 +123,48 @@ impl GroundRecord {
                 ));
             }
         }
-        Self::new(dt, samples).map_err(|e| Error::parse(what, e))
+        let record = Self::new(dt, samples).map_err(|e| Error::parse(what, e))?;
+        record
+            .check_at_rest()
+            .map_err(|why| Error::parse(what, why))?;
+        Ok(record)
+    }
+
+    /// `Err` saying why when the record does not end at rest: its last sample and the velocity
+    /// reached by integrating it with the trapezoid rule at its own Δt (what the ground's
+    /// integration does, Eq. S2) must be within [`AT_REST`] of their peaks. A record that
+    /// does not would leave its supports moving after it ends; a residual displacement is a
+    /// permanent offset of the ground, at rest, and is kept (docs/seismic.md "A record of
+    /// your own").
+    pub fn check_at_rest(&self) -> std::result::Result<(), String> {
+        for (axis, name) in ["ax", "ay", "az"].iter().enumerate() {
+            let a: Vec<f64> = self.samples.iter().map(|s| s[axis]).collect();
+            let (mut v, mut v_peak, mut a_peak) = (0.0_f64, 0.0_f64, 0.0_f64);
+            for j in 0..a.len() {
+                if j > 0 {
+                    v += 0.5 * self.dt * (a[j - 1] + a[j]);
+                }
+                v_peak = v_peak.max(v.abs());
+                a_peak = a_peak.max(a[j].abs());
+            }
+            let a_end = a[a.len() - 1];
+            if a_end.abs() > AT_REST * a_peak {
+                return Err(format!(
+                    "does not end at rest: the last {name} is {a_end:e} m/s², more than {AT_REST} of its peak {a_peak:e} m/s² (taper the record's end and correct its baseline, docs/seismic.md)"
+                ));
+            }
+            if v.abs() > AT_REST * v_peak {
+                return Err(format!(
+                    "does not end at rest: {name} integrates to a final velocity of {v:e} m/s, more than {AT_REST} of its peak {v_peak:e} m/s (correct the record's baseline, docs/seismic.md)"
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The time of the last sample (s): the record's end, after which the ground is at rest.
+    pub fn end(&self) -> f64 {
+        (self.samples.len() - 1) as f64 * self.dt
     }
 
     /// The sample step (s).
@@ -131,18 +181,15 @@ impl GroundRecord {
     /// sample.
     pub fn acceleration(&self, t: f64) -> [f64; AXES] {
         let s = t / self.dt;
-        if s.is_nan() || s < 0.0 {
+        let n = self.samples.len();
+        // Compared as floats before any index is formed: a huge t/Δt saturates a cast.
+        if s.is_nan() || s < 0.0 || s > (n - 1) as f64 {
             return [0.0; AXES];
         }
         let i = s.floor();
         let k = i as usize;
-        let n = self.samples.len();
         if k + 1 >= n {
-            return if k + 1 == n && s == i {
-                self.samples[k]
-            } else {
-                [0.0; AXES]
-            };
+            return self.samples[n - 1];
         }
         let f = s - i;
         let (a, b) = (self.samples[k], self.samples[k + 1]);
@@ -263,6 +310,12 @@ impl SupportMotion {
         self.sources.len()
     }
 
+    /// Whether support `k`'s record has ended by time `t` (its ground is at rest from then).
+    pub fn ended(&self, k: usize, t: f64) -> bool {
+        let s = &self.sources[k];
+        t - s.delay > self.records[s.record].end()
+    }
+
     /// The dynamic ground acceleration at support `k` at time `t` (m/s²).
     pub fn acceleration(&self, k: usize, t: f64) -> [f64; AXES] {
         let s = &self.sources[k];
@@ -302,6 +355,21 @@ impl GroundState {
             let sum = self.a[i] + a1i;
             next.v[i] = self.v[i] + 0.5 * dt * sum;
             next.d[i] = self.d[i] + dt * self.v[i] + 0.25 * dt * dt * sum;
+        }
+        next
+    }
+}
+
+impl GroundState {
+    /// The state one step `dt` later once the record has ended: at rest, its displacement
+    /// advanced by the trapezoid rule on the velocity (v₀ + 0)/2 and held from then on. A
+    /// record that ends at rest has v₀ = 0 there (to its check, [`AT_REST`]); integrating on
+    /// instead would carry any residual velocity, Δt·a_N/2 of a last sample a_N ≠ 0, into a
+    /// drift that never ends.
+    pub fn at_rest(&self, dt: f64) -> Self {
+        let mut next = GroundState::default();
+        for i in 0..AXES {
+            next.d[i] = self.d[i] + 0.5 * dt * self.v[i];
         }
         next
     }
@@ -369,7 +437,11 @@ impl GroundTrack {
         }
         let t = (self.steps + 1) as f64 * dt;
         for (k, (g1, g0)) in self.trial.iter_mut().zip(&self.committed).enumerate() {
-            *g1 = g0.step(dt, self.motion.acceleration(k, t));
+            *g1 = if self.motion.ended(k, t) {
+                g0.at_rest(dt)
+            } else {
+                g0.step(dt, self.motion.acceleration(k, t))
+            };
         }
         self.trial_valid = true;
     }
@@ -462,12 +534,15 @@ mod tests {
     /// Linear between samples, exact at them, zero outside the record.
     #[test]
     fn record_interpolates_linearly() {
-        let r = record(0.5, 4, |t| [t, 2.0 * t, -t * t]);
-        assert_eq!(r.acceleration(1.0), [1.0, 2.0, -1.0]);
-        assert_eq!(r.acceleration(1.25), [1.25, 2.5, -(1.0 + 2.25) / 2.0]);
-        assert_eq!(r.acceleration(2.0), [2.0, 4.0, -4.0]);
-        assert_eq!(r.acceleration(-0.1), [0.0; AXES]);
-        assert_eq!(r.acceleration(2.1), [0.0; AXES]);
+        // Δt = 1/16 s: every time below is exact in binary.
+        let dt = 0.0625;
+        let r = record(dt, 4, |t| [t, 2.0 * t, -t * t]);
+        let at = |k: f64| r.acceleration(k * dt);
+        assert_eq!(at(2.0), [2.0 * dt, 4.0 * dt, -4.0 * dt * dt]);
+        assert_eq!(at(2.5), [2.5 * dt, 5.0 * dt, -(4.0 + 9.0) / 2.0 * dt * dt]);
+        assert_eq!(at(4.0), [4.0 * dt, 8.0 * dt, -16.0 * dt * dt]);
+        assert_eq!(at(-0.1), [0.0; AXES]);
+        assert_eq!(at(4.2), [0.0; AXES]);
     }
 
     /// Wave passage: support k follows the record delayed by (x_k − x_min)/c.
@@ -488,12 +563,18 @@ mod tests {
     /// with the line.
     #[test]
     fn csv_reads_the_accelerogram_shape() {
-        let text =
-            format!("{HEADER}\n0.000,0e0,1e0,-2e0\n0.005,1.5e-3,2e0,3e0\n0.010,0e0,0e0,0e0\n");
+        let text = format!(
+            "{HEADER}\n0.000,0e0,0e0,0e0\n0.005,1.5e-3,1e0,-2e0\n0.010,-1.5e-3,-1e0,2e0\n0.015,0,0,0\n"
+        );
         let r = GroundRecord::from_csv("quake.csv", &text).unwrap();
         assert_eq!(
             r.samples(),
-            &[[0.0, 1.0, -2.0], [1.5e-3, 2.0, 3.0], [0.0; 3]]
+            &[
+                [0.0; 3],
+                [1.5e-3, 1.0, -2.0],
+                [-1.5e-3, -1.0, 2.0],
+                [0.0; 3]
+            ]
         );
         assert!((r.time_step() - 0.005).abs() < 1e-15);
         let bad_t = format!("{HEADER}\n0.000,0,0,0\n0.005,0,0,0\n0.020,0,0,0\n");
@@ -509,5 +590,67 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("line 2"), "{e}");
+    }
+
+    /// A sample step outside [`DT_LIMITS_S`] is refused naming it (Δt = 1e-300 s indexed
+    /// usize::MAX: t/Δt saturated the cast), and a time far beyond the record reads zero.
+    #[test]
+    fn the_sample_step_is_bounded_and_no_time_indexes_past_the_record() {
+        for dt in ["1e-300", "1e-5", "0.5"] {
+            let text = format!("{HEADER}\n0,0,0,0\n{dt},0,0,0\n");
+            let e = GroundRecord::from_csv("quake.csv", &text)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("support.record.dt: must be within [0.0001, 0.1] s")
+                    && !e.contains('\n'),
+                "{dt}: {e}"
+            );
+        }
+        let dt = 1.0 / 1024.0;
+        let r = record(dt, 4, |_| [0.0, 0.0, 1.0]);
+        for t in [1e300, f64::MAX, f64::INFINITY, 4.0 * dt, 4.0 * dt + 1e-12] {
+            let want = if t == 4.0 * dt {
+                [0.0, 0.0, 1.0]
+            } else {
+                [0.0; AXES]
+            };
+            assert_eq!(r.acceleration(t), want, "t = {t:e}");
+        }
+    }
+
+    /// A record of the user's must end at rest ([`AT_REST`]): a last sample or a final
+    /// velocity beyond 1e-3 of its peak is refused saying which; a residual displacement is
+    /// kept.
+    #[test]
+    fn a_record_that_does_not_end_at_rest_is_refused_saying_why() {
+        let csv = |rows: &[[f64; 3]]| {
+            let mut t = format!("{HEADER}\n");
+            for (j, r) in rows.iter().enumerate() {
+                t += &format!("{},{},{},{}\n", j as f64 * 0.01, r[0], r[1], r[2]);
+            }
+            t
+        };
+        let e =
+            GroundRecord::from_csv("q.csv", &csv(&[[0.0; 3], [0.0, 1.0, 0.0], [0.0, 1.0, 0.0]]))
+                .unwrap_err()
+                .to_string();
+        assert!(
+            e.contains("does not end at rest: the last ay is 1e0 m/s²"),
+            "{e}"
+        );
+        let e = GroundRecord::from_csv("q.csv", &csv(&[[0.0; 3], [0.0, 0.0, 1.0], [0.0; 3]]))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("does not end at rest: az integrates to a final velocity of 1e-2 m/s"),
+            "{e}"
+        );
+        // Up, down, at rest: velocity back to zero, the ground displaced: accepted.
+        GroundRecord::from_csv(
+            "q.csv",
+            &csv(&[[0.0; 3], [1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0; 3]]),
+        )
+        .unwrap();
     }
 }

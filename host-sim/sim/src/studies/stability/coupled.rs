@@ -19,6 +19,10 @@ pub const GIRDER_MODES: usize = 8;
 /// Points of the critical search's scan over `[LO, HI]` (bisection follows).
 const SCAN: usize = 32;
 
+/// The most bisections of the critical search: 1e-9 of the range takes 30, and a range
+/// narrower than the floats can halve stops earlier (its midpoint is one of its ends).
+const MAX_BISECTIONS: usize = 200;
+
 /// The coupled model's verdict.
 #[derive(Debug, Serialize)]
 pub struct Coupled {
@@ -39,14 +43,16 @@ pub fn coupled(case: &Case, count: usize) -> crate::Result<Option<(Vec<GirderMod
         return Ok(None);
     }
     let (v, _, _) = vehicle_of(case)?;
-    let modes = girder_modes(case, &v.wheels, count)?;
     let inner = case.controller.ok_or_else(|| {
         crate::Error::invalid(
             "controller",
             "the coupled analysis needs a [controller] section",
         )
     })?;
-    let plant = VehiclePlant::on_girder(&v, &inner, &case.law()?, case.geometry, &modes)?;
+    let law = case.law()?;
+    crate::studies::stability::report::runnable(case, &v, &inner, law)?;
+    let modes = girder_modes(case, &v.wheels, count)?;
+    let plant = VehiclePlant::on_girder(&v, &inner, &law, case.geometry, &modes)?;
     let vd: Verdict = plant.verdict()?;
     let source = format!(
         "the FE span's first {count} vertical bending modes ({} elements per span), each \
@@ -76,12 +82,15 @@ pub struct Critical {
 }
 
 /// The value of scenario key `key` in `[lo, hi]` where the coupled model's `max_real_part`
-/// crosses zero, with the law resolved once at the scenario's own values: `base` is
-/// `name` with `sets`, loaded with its law resolved ([`crate::studies::design::load`]).
+/// crosses zero, with the law resolved once at the scenario's own values (`base` is `name`
+/// with `sets`, loaded with its law resolved, [`crate::studies::design::load`]), unless
+/// `key` changes the law itself (a gain of `[controller.state]`, `controller.law`): then each
+/// point analyses the law as the key gives it there (designed there, where it is designed).
 ///
 /// Method: `max_real_part` on [`SCAN`] points (log-spaced if `lo > 0`, else even) brackets the
-/// first sign change; bisection narrows it to 1e-9 of the range. A stable or unstable window
-/// narrower than one scan step could be missed.
+/// first sign change; bisection narrows it to 1e-9 of the range, or to adjacent floats (at
+/// most [`MAX_BISECTIONS`]). A stable or unstable window narrower than one scan step could be
+/// missed.
 pub fn critical(
     name: &str,
     sets: &[String],
@@ -96,11 +105,16 @@ pub fn critical(
             format!("needs finite LO < HI, got {lo} {hi}"),
         ));
     }
+    let unresolved = Case::load(name, sets)?.law;
     let at = |x: f64| -> crate::Result<f64> {
         let mut s = sets.to_vec();
         s.push(format!("{key}={x:?}"));
         let mut c = Case::load(name, &s)?;
-        c.law = base.law;
+        if c.law == unresolved {
+            c.law = base.law;
+        } else {
+            c = crate::studies::design::resolve(c)?;
+        }
         match coupled(&c, count)? {
             Some((_, v)) => Ok(v.max_real_part),
             None => Err(crate::Error::invalid(
@@ -125,8 +139,11 @@ pub fn critical(
         let r = if i == SCAN - 1 { ends[1] } else { at(x)? };
         if (r >= 0.0) != (prev.1 >= 0.0) {
             let (mut a, mut b, ra) = (prev.0, x, prev.1);
-            while b - a > 1e-9 * (hi - lo) {
+            for _ in 0..MAX_BISECTIONS {
                 let m = 0.5 * (a + b);
+                if b - a <= 1e-9 * (hi - lo) || m <= a || m >= b {
+                    break;
+                }
                 if (at(m)? >= 0.0) == (ra >= 0.0) {
                     a = m;
                 } else {

@@ -100,6 +100,16 @@ pub fn control_period(law: &LawKind, inner: &Params, dt: f64) -> f64 {
     }
 }
 
+/// `Err` where a run of `case` would refuse its law: each magnet wheel of `v` compiled as the
+/// run compiles it ([`crate::simulation::magnets::compile_law`]), so that no analysis judges a
+/// law that `maglev run` refuses (`vmax_V = 1e-300`).
+pub fn runnable(case: &Case, v: &VehicleModel, inner: &Params, law: LawKind) -> crate::Result<()> {
+    for &p0 in &v.p0 {
+        crate::simulation::magnets::compile_law(inner, law, p0, case.dt)?;
+    }
+    Ok(())
+}
+
 /// The delay in series in the margins: 1.5 control periods (module docs of
 /// [`crate::studies::stability::margins`]; docs/levitation.md "The delay").
 pub const DELAY_PERIODS: f64 = 1.5;
@@ -129,6 +139,7 @@ pub fn scenario_report(
         ));
     };
     let law = case.law()?;
+    runnable(&case, &v, &inner, law)?;
     let geometry = case.geometry;
     let (girder, coupled) = coupled(case, girder_modes)?.unzip();
     let plant = VehiclePlant::new(&v, &inner, &law, geometry)?;
