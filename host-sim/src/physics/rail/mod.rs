@@ -1,0 +1,6 @@
+//! The wheel/rail track and running gear of a high-speed train (issue 41): the rail
+//! irregularity of a real track ([`spectrum`], [`irregularity`]). docs/cars.md, "The
+//! high-speed track and wheelset", states every value and its source.
+
+pub mod irregularity;
+pub mod spectrum;
