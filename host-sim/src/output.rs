@@ -2,6 +2,7 @@
 //! (drawn by [`crate::plot`]).
 
 pub mod owned;
+pub mod running_safety;
 pub mod safety;
 pub mod staging;
 
