@@ -162,8 +162,8 @@ impl Vertical {
         ];
         let mut out = [0.0; 20];
         out[..10].copy_from_slice(dq);
-        for i in 0..10 {
-            out[10 + i] = f[i] / mass[i];
+        for (o, (f, m)) in out[10..].iter_mut().zip(f.iter().zip(&mass)) {
+            *o = f / m;
         }
         out
     }

@@ -273,8 +273,8 @@ impl WheelsetContact {
                 up.q[*dof] += h;
                 down.q[*dof] -= h;
                 let (ru, rd) = (residual(&up), residual(&down));
-                for row in 0..2 {
-                    jac[row][col] = (ru[row] - rd[row]) / (2.0 * h);
+                for (row, (u, d)) in jac.iter_mut().zip(ru.iter().zip(&rd)) {
+                    row[col] = (u - d) / (2.0 * h);
                 }
             }
             let det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
@@ -308,7 +308,7 @@ pub fn rk4<const N: usize>(
     let k2 = f(0.5 * dt, &shift(x, &k1, 0.5 * dt));
     let k3 = f(0.5 * dt, &shift(x, &k2, 0.5 * dt));
     let k4 = f(dt, &shift(x, &k3, dt));
-    for i in 0..N {
-        x[i] += dt / 6.0 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+    for (i, xi) in x.iter_mut().enumerate() {
+        *xi += dt / 6.0 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
     }
 }
