@@ -272,11 +272,19 @@ fn welch_psd_of_the_fast_generator_matches_two_g_rr() {
 /// Welch estimate of `x` (sampled at DX) against 2·G_rr, band by band (module docs).
 fn check_bands(x: &[f64]) {
     let params = PsdParams::TABLE1_Z;
+    let two_sided = |omega: f64| 2.0 * params.psd(omega);
+    check_bands_against(x, &two_sided, params.omega_l, params.omega_u);
+}
+
+/// Welch estimate of `x` (sampled at DX) against the one-sided density `s1(ω)`
+/// (m²/(rad/m), variance = ∫₀^∞ s1 dω) of a comb of lines on `[omega_l, omega_u]`, band by
+/// band (module docs: the periodogram in cycles/m is 2π·s1(2πν)).
+fn check_bands_against(x: &[f64], s1: &dyn Fn(f64) -> f64, omega_l: f64, omega_u: f64) {
     let (p, k) = welch(x, DX);
     let dnu = 1.0 / (SEG as f64 * DX); // bin width, cycles/m
     let expected = |b: usize| {
         let nu = b as f64 * dnu;
-        2.0 * PI * 2.0 * params.psd(2.0 * PI * nu)
+        2.0 * PI * s1(2.0 * PI * nu)
     };
     let w = hann(SEG);
     let rho0 = coherence(&w, 0, 64);
@@ -294,8 +302,8 @@ fn check_bands(x: &[f64]) {
         rho1[64]
     );
 
-    let b_lo = (params.omega_l / (2.0 * PI) / dnu).ceil() as usize + EDGE_BINS;
-    let b_hi = (params.omega_u / (2.0 * PI) / dnu).floor() as usize - EDGE_BINS;
+    let b_lo = (omega_l / (2.0 * PI) / dnu).ceil() as usize + EDGE_BINS;
+    let b_hi = (omega_u / (2.0 * PI) / dnu).floor() as usize - EDGE_BINS;
     let (lo, hi) = (b_lo as f64 * dnu, b_hi as f64 * dnu);
     let alpha = 0.001 / N_BANDS as f64;
     let z = z_upper(alpha / 2.0);
@@ -330,13 +338,96 @@ fn check_bands(x: &[f64]) {
     let (mn, mx) = ratios
         .iter()
         .fold((f64::MAX, f64::MIN), |(a, b), &r| (a.min(r), b.max(r)));
-    println!("band ratios (Welch / 2 G_rr) range {mn:.4}..{mx:.4}");
+    println!("band ratios (Welch / expected) range {mn:.4}..{mx:.4}");
 
     // Outside the band there are no lines: above 1.1 ω_u (≥ 160 bins from the last line, where
     // Hann leakage is < 1e-12 of a line's power) the estimate must be negligible.
     let floor = 1e-6 * expected(b_hi);
-    let b_out = (1.1 * params.omega_u / (2.0 * PI) / dnu).ceil() as usize;
+    let b_out = (1.1 * omega_u / (2.0 * PI) / dnu).ceil() as usize;
     let worst = p[b_out..SEG / 2 - 100].iter().cloned().fold(0.0, f64::max);
     println!("max PSD above 1.1 ω_u: {worst:.3e} (limit {floor:.3e})");
     assert!(worst < floor);
+}
+
+/// The track spectra's densities, written here from their sources (not read from the code
+/// under test): the German spectra (Zhai, *Vehicle–Track Coupled Dynamics*, 2020) and
+/// TB/T 3352-2014's power laws, one-sided in m²/(rad/m).
+mod track {
+    use std::f64::consts::PI;
+
+    /// German, low disturbance: (A_v, A_a, A_g) in m²·rad/m and the corner frequencies.
+    const A: (f64, f64, f64) = (4.032e-7, 2.119e-7, 5.32e-8);
+    const WC: f64 = 0.8246;
+    const WR: f64 = 0.0206;
+    const WS: f64 = 0.438;
+
+    /// Vertical, alignment, cross level (A_v/b², b = 0.75 m), gauge.
+    pub fn german_low(component: usize, w: f64) -> f64 {
+        let w2 = w * w;
+        let base = WC * WC / ((w2 + WR * WR) * (w2 + WC * WC));
+        let shaped = base * w2 / (w2 + WS * WS);
+        match component {
+            0 => A.0 * base,
+            1 => A.1 * base,
+            2 => A.0 / 0.5625 * shaped,
+            _ => A.2 * shaped,
+        }
+    }
+
+    /// TB/T 3352-2014: S(f) = A/fⁿ mm²/(1/m) by pieces, converted to m²/(rad/m).
+    pub fn chinese(component: usize, w: f64) -> f64 {
+        let f = w / (2.0 * PI);
+        let (a, n) = match component {
+            0 if f < 0.0187 => (1.0544e-5, 3.3891),
+            0 if f < 0.0474 => (3.5588e-3, 1.9271),
+            0 if f < 0.1533 => (1.9784e-2, 1.3643),
+            0 => (3.9488e-4, 3.4516),
+            1 if f < 0.045 => (3.9513e-3, 1.867),
+            1 if f < 0.1234 => (1.1047e-2, 1.5354),
+            1 => (7.5633e-4, 2.8171),
+            2 if f < 0.0258 => (3.6148e-3, 1.7278),
+            2 if f < 0.1163 => (4.3685e-2, 1.0461),
+            2 => (4.5867e-3, 2.0939),
+            _ if f < 0.1090 => (5.4978e-2, 0.8282),
+            _ if f < 0.2938 => (5.0701e-3, 1.9037),
+            _ => (1.8778e-4, 4.5948),
+        };
+        1e-6 * a / f.powf(n) / (2.0 * PI)
+    }
+}
+
+/// The rails of a track spectrum (`physics::rail::irregularity`, 1–120 m, 2000 terms),
+/// sampled at DX through the runs' table, and their four components formed back from the
+/// rails: (z_l + z_r)/2, (y_l + y_r)/2, z_l − z_r, y_l − y_r, each against its density.
+fn check_track(spectrum: &str, density: fn(usize, f64) -> f64) {
+    use maglev_sim::physics::rail::irregularity::{Band, RailIrregularity};
+    use maglev_sim::physics::rail::spectrum::TrackSpectrum;
+    let s = TrackSpectrum::from_name(spectrum).unwrap();
+    let band = Band::default();
+    let rails = RailIrregularity::new(&s, &band, 20_120_331, 0.0, LENGTH).unwrap();
+    let count = (LENGTH / DX).round() as usize;
+    let mut parts = vec![vec![0.0; count]; 4];
+    for j in 0..count {
+        let x = j as f64 * DX;
+        let ((yl, zl), (yr, zr)) = (rails.left(x), rails.right(x));
+        let values = [(zl + zr) / 2.0, (yl + yr) / 2.0, zl - zr, yl - yr];
+        for (part, v) in parts.iter_mut().zip(values) {
+            part[j] = v;
+        }
+    }
+    let (lo, hi) = (2.0 * PI / 120.0, 2.0 * PI);
+    for (c, x) in parts.iter().enumerate() {
+        println!("{spectrum}, component {c}");
+        check_bands_against(x, &|w| density(c, w), lo, hi);
+    }
+}
+
+#[test]
+fn welch_psd_of_the_german_low_disturbance_rails() {
+    check_track("german-low", track::german_low);
+}
+
+#[test]
+fn welch_psd_of_the_chinese_high_speed_rails() {
+    check_track("chinese", track::chinese);
 }

@@ -58,6 +58,8 @@ pub mod physics;
 #[doc(hidden)]
 pub mod probes;
 #[doc(hidden)]
+pub mod running_safety;
+#[doc(hidden)]
 pub mod safety;
 #[doc(hidden)]
 pub mod setup;

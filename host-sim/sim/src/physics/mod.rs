@@ -9,6 +9,7 @@ pub mod fe;
 pub mod guideway;
 pub mod modal;
 pub mod profile;
+pub mod rail;
 pub mod seismic;
 pub mod train;
 pub mod vehicle;

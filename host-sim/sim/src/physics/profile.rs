@@ -35,8 +35,7 @@ impl Profile {
     /// [`Synthesis`] serves both (they share the frequencies). A generator the core refuses,
     /// or an extent that gives no grid, is `Invalid` on `irregularity`.
     pub fn table1_y_z(seed: u64, x_min: f64, x_max: f64) -> Result<(Self, Self)> {
-        let x0 = x_min - 2.0 * GRID;
-        let n = ((x_max - x0) / GRID).ceil() as usize + 4;
+        let (x0, n) = grid(x_min, x_max);
         let y = generator(Direction::Y, seed, x0)?;
         let z = generator(Direction::Z, seed, x0)?;
         let mut synthesis = Synthesis::new(y.terms(), GRID);
@@ -47,14 +46,29 @@ impl Profile {
         Ok((y, Self::sample(&z, x0, n, &mut synthesis)?))
     }
 
+    /// r of the cosine `terms` (uniform frequencies, phases already shifted to the origin
+    /// `x0`, as [`Irregularity::with_origin`] does) over `[x_min, x_max]`: the same synthesis,
+    /// grid and table as [`Profile::table1_y_z`], for spectra other than Table 1
+    /// (`physics::rail::irregularity`). `x0` and `n` as [`grid`] gives them.
+    pub fn from_terms(terms: &[Term<f64>], x0: f64, n: usize) -> Result<Self> {
+        Self::tabulate(terms, x0, n, &mut Synthesis::new(terms, GRID))
+    }
+
     /// r of `g` (origin `x0`) on `n` grid points, tabulated.
     fn sample(g: &Irregularity<f64>, x0: f64, n: usize, s: &mut Synthesis) -> Result<Self> {
+        Self::tabulate(g.terms(), x0, n, s)
+    }
+
+    /// r of `terms` (origin `x0`) on `n` grid points by `s`, tabulated.
+    fn tabulate(terms: &[Term<f64>], x0: f64, n: usize, s: &mut Synthesis) -> Result<Self> {
         let mut r = vec![0.0; n];
-        s.sweep::<()>(g, n, |j, _x, v| {
-            r[j] = v;
-            Ok(())
-        })
-        .map_err(|_| Error::numerical("irregularity sweep failed"))?;
+        let mut j0 = 0;
+        while j0 < n {
+            let block = s.block(terms, j0);
+            let m = block.len().min(n - j0);
+            r[j0..j0 + m].copy_from_slice(&block[..m]);
+            j0 += m;
+        }
         let table = Table::new(x0, GRID, r)
             .map_err(|e| Error::invalid("irregularity", format!("{e:?}")))?;
         Ok(Profile { table })
@@ -67,6 +81,13 @@ impl Profile {
             self.table.eval(x, &mut outside, &mut ov)
         })
     }
+}
+
+/// The grid origin x0 and point count n that cover `[x_min, x_max]` with two cells of margin
+/// each side (the 4-point interpolation's stencil).
+pub fn grid(x_min: f64, x_max: f64) -> (f64, usize) {
+    let x0 = x_min - 2.0 * GRID;
+    (x0, ((x_max - x0) / GRID).ceil() as usize + 4)
 }
 
 /// The Table 1 generator of `direction` for `seed`, shifted to `origin` (m); on the heap (2000

@@ -1,0 +1,199 @@
+//! Running-safety and comfort indices of a wheel/rail passage, each judged against its limit
+//! with the limit's source (issue 41 point 5; docs/safety.md, "Running safety of the
+//! high-speed car"). Pure functions of sampled signals; no run, no I/O.
+//!
+//! - Derailment quotient Y/Q per wheel: the ratio of the rail's lateral to vertical force
+//!   on the wheel, as EN 14363 evaluates it: a sliding mean over 2 m of track, then the
+//!   99.85th percentile of the means (nearest rank). Limit 0.8.
+//! - Wheel unloading ΔP/P = (P0 − P)/P0, the largest. Limit 0.6.
+//! - Wheelset lateral force ΣY (the sum over its two wheels), sliding mean over 2 m, the
+//!   largest |mean|, against Prud'homme's α(10 + P0/3) kN with P0 the static axle load in
+//!   kN (α = 1; EN 14363 writes it 10 + 2Q0/3 with Q0 the wheel load).
+//! - Car-body acceleration, the largest |a| (vertical and lateral). Limit 2.5 m/s².
+//! - Sperling's ride index W = (Σ_f W_f¹⁰)^{1/10}, W_f = 0.896 (a_f³ F(f)/f)^{1/10}, with
+//!   a_f the amplitude (cm/s²) of the body acceleration's component at frequency f (Hz,
+//!   0.5–40 Hz) and F(f) the frequency weighting, vertical 0.325 f² (0.5–5.9 Hz), 400/f²
+//!   (5.9–20 Hz), 1 (> 20 Hz); lateral 0.8 f² (0.5–5.4 Hz), 650/f² (5.4–26 Hz), 1 (> 26 Hz).
+//!   Limit 2.5 ("excellent").
+//!
+//! Sources: the limits as cited for UIC 518 / EN 14363 and GB/T 5599-2019 in the
+//! vehicle–bridge literature; **the standards' texts were not read**. The filters the
+//! standards apply before these steps (e.g. a 20 Hz low-pass) are not applied.
+
+use realfft::RealFftPlanner;
+
+/// One judged index.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Index {
+    /// The figure (SI, or 1 for a ratio).
+    pub value: f64,
+    /// Its limit.
+    pub limit: f64,
+    /// Whether `value` is within `limit`.
+    pub pass: bool,
+    /// Where the limit comes from.
+    pub source: &'static str,
+}
+
+impl Index {
+    fn at_most(value: f64, limit: f64, source: &'static str) -> Self {
+        Index {
+            value,
+            limit,
+            pass: value <= limit,
+            source,
+        }
+    }
+}
+
+/// Y/Q limit (UIC 518, EN 14363; GB/T 5599-2019 the same value).
+pub const Y_Q_LIMIT: f64 = 0.8;
+/// ΔP/P limit (GB/T 5599).
+pub const UNLOADING_LIMIT: f64 = 0.6;
+/// Car-body acceleration limit, m/s² (GB/T 5599).
+pub const BODY_ACCELERATION_LIMIT: f64 = 2.5;
+/// Sperling index limit, "excellent" (GB/T 5599).
+pub const SPERLING_LIMIT: f64 = 2.5;
+/// Length of EN 14363's sliding mean, m.
+pub const WINDOW_M: f64 = 2.0;
+/// EN 14363's percentile of the sliding means.
+pub const PERCENTILE: f64 = 99.85;
+
+/// Sliding means of `x` over windows of `window` samples (each full window, in order);
+/// empty when `x` is shorter than one window.
+pub fn sliding_mean(x: &[f64], window: usize) -> Vec<f64> {
+    let w = window.max(1);
+    if x.len() < w {
+        return Vec::new();
+    }
+    let mut sum: f64 = x[..w].iter().sum();
+    let mut out = Vec::with_capacity(x.len() - w + 1);
+    out.push(sum / w as f64);
+    for i in w..x.len() {
+        sum += x[i] - x[i - w];
+        out.push(sum / w as f64);
+    }
+    out
+}
+
+/// The `p`-th percentile of `x` by nearest rank (the smallest value with at least p % of
+/// the values at or below it); NaN for an empty `x`.
+pub fn percentile(x: &[f64], p: f64) -> f64 {
+    if x.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = x.to_vec();
+    v.sort_by(f64::total_cmp);
+    let rank = ((p / 100.0) * v.len() as f64).ceil() as usize;
+    v[rank.clamp(1, v.len()) - 1]
+}
+
+/// The number of samples in 2 m of track at the sample spacing `dx` (m).
+pub fn window(dx: f64) -> usize {
+    ((WINDOW_M / dx).round() as usize).max(1)
+}
+
+/// Y/Q of one wheel from its lateral `y` and vertical `q` forces (N) sampled every `dx`
+/// metres: |Y|/Q (a wheel off its rail, Q ≤ 0, counts as Y/Q = ∞), 2 m sliding mean, the
+/// 99.85th percentile.
+pub fn derailment_quotient(y: &[f64], q: &[f64], dx: f64) -> Index {
+    let ratio: Vec<f64> = y
+        .iter()
+        .zip(q)
+        .map(|(y, q)| if *q > 0.0 { y.abs() / q } else { f64::INFINITY })
+        .collect();
+    let value = percentile(&sliding_mean(&ratio, window(dx)), PERCENTILE);
+    Index::at_most(
+        value,
+        Y_Q_LIMIT,
+        "UIC 518 / EN 14363 (2 m sliding mean, 99.85th percentile), as cited",
+    )
+}
+
+/// The largest wheel unloading (P0 − P)/P0 of the forces `p` (N) with static load `p0`.
+pub fn unloading(p: &[f64], p0: f64) -> Index {
+    let value = p
+        .iter()
+        .map(|p| (p0 - p.max(0.0)) / p0)
+        .fold(f64::NEG_INFINITY, f64::max);
+    Index::at_most(value, UNLOADING_LIMIT, "GB/T 5599-2019, as cited")
+}
+
+/// Prud'homme's limit of the wheelset lateral force, N, for the static axle load `axle`
+/// (N): α(10 + P0/3) kN with P0 in kN, α = 1.
+pub fn prudhomme_limit(axle: f64) -> f64 {
+    1e3 * (10.0 + axle / 1e3 / 3.0)
+}
+
+/// The wheelset lateral force ΣY (N, sampled every `dx` m): the largest |2 m sliding mean|
+/// against Prud'homme's limit for the static axle load `axle` (N).
+pub fn wheelset_lateral_force(sum_y: &[f64], axle: f64, dx: f64) -> Index {
+    let value = sliding_mean(sum_y, window(dx))
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    Index::at_most(
+        value,
+        prudhomme_limit(axle),
+        "Prud'homme, EN 14363 (10 + 2Q0/3 kN, 2 m sliding mean), as cited",
+    )
+}
+
+/// The largest |a| of a car-body acceleration (m/s²).
+pub fn body_acceleration(a: &[f64]) -> Index {
+    let value = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    Index::at_most(value, BODY_ACCELERATION_LIMIT, "GB/T 5599-2019, as cited")
+}
+
+/// The direction of a Sperling index (its frequency weighting).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// Vertical.
+    Vertical,
+    /// Lateral.
+    Lateral,
+}
+
+/// Sperling's frequency weighting F(f) (module docs).
+pub fn sperling_weight(direction: Direction, f: f64) -> f64 {
+    match direction {
+        Direction::Vertical if f <= 5.9 => 0.325 * f * f,
+        Direction::Vertical if f <= 20.0 => 400.0 / (f * f),
+        Direction::Lateral if f <= 5.4 => 0.8 * f * f,
+        Direction::Lateral if f <= 26.0 => 650.0 / (f * f),
+        _ => 1.0,
+    }
+}
+
+/// Sperling's index of the body acceleration `a` (m/s²) sampled every `dt` s: the
+/// amplitude spectrum of one real FFT over the record (a_f = 2|X_f|/n), every bin in
+/// 0.5–40 Hz, combined as (Σ W_f¹⁰)^{1/10} (module docs).
+pub fn sperling(a: &[f64], dt: f64, direction: Direction) -> Index {
+    let n = a.len();
+    let mut value = 0.0;
+    if n >= 2 {
+        let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+        let mut input = a.to_vec();
+        let mut spectrum = fft.make_output_vec();
+        if fft.process(&mut input, &mut spectrum).is_ok() {
+            let df = 1.0 / (n as f64 * dt);
+            let sum: f64 = spectrum
+                .iter()
+                .enumerate()
+                .skip(1)
+                .filter(|(k, _)| (0.5..=40.0).contains(&(*k as f64 * df)))
+                .map(|(k, x)| {
+                    let f = k as f64 * df;
+                    let amp = 2.0 * x.norm() / n as f64 * 100.0; // cm/s²
+                    let w = 0.896 * (amp.powi(3) * sperling_weight(direction, f) / f).powf(0.1);
+                    w.powi(10)
+                })
+                .sum();
+            value = sum.powf(0.1);
+        }
+    }
+    Index::at_most(
+        value,
+        SPERLING_LIMIT,
+        "Sperling, GB/T 5599-2019 Annex E, as cited",
+    )
+}

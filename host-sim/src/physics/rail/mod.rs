@@ -1,0 +1,10 @@
+//! The wheel/rail track and running gear of a high-speed train (issue 41): the rail
+//! irregularity of a real track ([`spectrum`], [`irregularity`]), the wheel–rail contact
+//! ([`contact`]), one wheelset on its rails ([`wheelset`]) and the 3-D car ([`car`]).
+//! docs/cars.md, "The high-speed track and wheelset", states every value and its source.
+
+pub mod car;
+pub mod contact;
+pub mod irregularity;
+pub mod spectrum;
+pub mod wheelset;
