@@ -41,6 +41,9 @@ def run(
 ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
     """One run: response.csv's columns as arrays, and the summary (`maglev_sim.run` wraps it)."""
 
+def stability(scenario: Scenario, girder_modes: int = 8) -> dict[str, Any]:
+    """`maglev stability --scenario`'s report (poles, margins, critical magnet mass), a dict."""
+
 class _RustPd:
     """A PD law with an integral term, in Rust: the tests' reference for a Python controller."""
 

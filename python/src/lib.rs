@@ -14,6 +14,7 @@ pub mod errors;
 pub mod magnets;
 pub mod run;
 pub mod scenario;
+pub mod studies;
 
 /// The extension module.
 #[pymodule]
@@ -21,6 +22,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scenario::Scenario>()?;
     m.add_class::<magnets::RustPd>()?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
+    m.add_function(wrap_pyfunction!(studies::stability, m)?)?;
     m.add("BUNDLED", scenario::bundled_names())?;
     Ok(())
 }

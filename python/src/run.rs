@@ -63,15 +63,6 @@ pub struct Finished {
     pub wall: f64,
 }
 
-/// The recorder of every pier's base force, when the case has ground receivers (as
-/// `maglev run` records them).
-fn ground_recorder(case: &Case) -> Option<BaseForces> {
-    let v = case.viaduct.as_ref()?;
-    case.ground.as_ref()?;
-    let f = &v.foundation;
-    Some(BaseForces::new(v.spans + 1, f.stiffness[2], f.damping[2]))
-}
-
 /// Runs `case` with `magnets`, without Python: the columns, with the `ground{N}.vz` probes
 /// filled from the receivers after the run as `maglev run` fills them.
 pub fn simulate(
@@ -80,7 +71,7 @@ pub fn simulate(
     monitor: &mut dyn Monitor,
 ) -> Result<Finished> {
     let mut columns = Columns::new(case.probes.clone());
-    let mut base = ground_recorder(case);
+    let mut base = BaseForces::for_case(case);
     let run = match &mut base {
         Some(b) => maglev_sim::setup::simulate(case, magnets, &mut Tee(&mut columns, b), monitor)?,
         None => maglev_sim::setup::simulate(case, magnets, &mut columns, monitor)?,

@@ -100,3 +100,19 @@ def test_to_pandas_holds_the_columns():
     assert isinstance(frame, pd.DataFrame)
     assert list(frame.columns) == list(r.columns)
     assert same_bits(frame["t"].to_numpy(), r["t"])
+
+
+def test_stability_is_the_clis_report(tmp_path):
+    done = run_cli(["stability", "--scenario", "unit", "--set", "speed=0.0", "--format", "json"], tmp_path)
+    assert done.returncode == 0, done.stderr
+    import json
+
+    want = json.loads(done.stdout)
+    got = maglev_sim.stability(Scenario.bundled("unit").set("speed", 0.0))
+    assert got == want
+    assert got["scenario"] == "unit"
+    with pytest.raises(ValueError) as e:
+        maglev_sim.stability(Scenario.bundled("moving-force"))
+    refused = run_cli(["stability", "--scenario", "moving-force"], tmp_path)
+    assert refused.returncode == 2
+    assert refused.stderr.strip() == f"maglev: error: {e.value}"

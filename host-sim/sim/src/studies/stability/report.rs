@@ -169,10 +169,23 @@ pub fn scenario_report(
     sets: &[String],
     girder_modes: usize,
 ) -> crate::Result<ScenarioReport> {
+    case_report(
+        name,
+        &crate::studies::design::load(name, sets)?,
+        girder_modes,
+    )
+}
+
+/// [`scenario_report`] of a case already loaded and resolved (`crate::studies::design`),
+/// `name` the scenario's name in the report (the Python binding's scenarios from text).
+pub fn case_report(
+    name: &str,
+    case: &crate::input::case::Case,
+    girder_modes: usize,
+) -> crate::Result<ScenarioReport> {
     use crate::studies::stability::gap_loop::GapLoopPlant;
     use crate::studies::stability::vehicle::{critical_mass, ZERO_POLE};
-    let case = crate::studies::design::load(name, sets)?;
-    let (v, magnet_mass, build) = vehicle_of(&case)?;
+    let (v, magnet_mass, build) = vehicle_of(case)?;
     let Some(inner) = case.controller else {
         return Err(crate::Error::invalid(
             "controller",
@@ -181,7 +194,7 @@ pub fn scenario_report(
     };
     let law = case.law()?;
     let geometry = case.geometry;
-    let (girder, coupled) = coupled(&case, girder_modes)?.unzip();
+    let (girder, coupled) = coupled(case, girder_modes)?.unzip();
     let plant = VehiclePlant::new(&v, &inner, &law, geometry)?;
     let vd = plant.verdict()?;
     let critical = critical_mass(magnet_mass, |m| {
