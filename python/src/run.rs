@@ -33,7 +33,7 @@ impl Interrupts {
 impl Monitor for Interrupts {
     fn cancelled(&mut self) -> bool {
         self.steps += 1;
-        if self.steps % Self::EVERY != 0 {
+        if !self.steps.is_multiple_of(Self::EVERY) {
             return false;
         }
         match Python::attach(|py| py.check_signals()) {
