@@ -488,8 +488,8 @@ fn diverged(t: f64, quantity: &str, v: f64) -> Error {
     ))
 }
 
-/// `step.t`, or the error if it is not finite.
-fn finite_t(step: &StepView) -> Result<f64> {
+/// `step.t`, or the error if it is not finite (what every recorder checks first).
+pub fn finite_t(step: &StepView) -> Result<f64> {
     if step.t.is_finite() {
         Ok(step.t)
     } else {

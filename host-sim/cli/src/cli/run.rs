@@ -87,14 +87,6 @@ pub fn warn(outcome: &Outcome) {
     }
 }
 
-/// The recorder of every pier's base force, when the case has ground receivers.
-pub fn ground_recorder(case: &Case) -> Option<BaseForces> {
-    let v = case.viaduct.as_ref()?;
-    case.ground.as_ref()?;
-    let f = &v.foundation;
-    Some(BaseForces::new(v.spans + 1, f.stiffness[2], f.damping[2]))
-}
-
 /// ground.csv and ground-levels.csv of the case's receivers from the recorded base forces,
 /// the `ground{N}.vz` probe columns filled into response.csv, and summary.json's `ground`
 /// section, returned (docs/ground.md).
@@ -159,7 +151,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut rec = response_recorder(&out, case.probes.clone())?;
     let mut safety = Safety::for_case(&case);
     let mut bar = Progress::run("run");
-    let mut base = ground_recorder(&case);
+    let mut base = BaseForces::for_case(&case);
     let mut with_safety = Tee(&mut rec, &mut safety);
     let run = match &mut base {
         Some(b) => simulate(

@@ -129,6 +129,20 @@ pub fn scenario_report(
     case: &Case,
     girder_modes: usize,
 ) -> crate::Result<ScenarioReport> {
+    case_report(
+        name,
+        &crate::studies::design::load(name, sets)?,
+        girder_modes,
+    )
+}
+
+/// [`scenario_report`] of a case already loaded and resolved (`crate::studies::design`),
+/// `name` the scenario's name in the report (the Python binding's scenarios from text).
+pub fn case_report(
+    name: &str,
+    case: &crate::input::case::Case,
+    girder_modes: usize,
+) -> crate::Result<ScenarioReport> {
     use crate::studies::stability::gap_loop::GapLoopPlant;
     use crate::studies::stability::vehicle::{critical_mass, ZERO_POLE};
     let (v, magnet_mass, build) = vehicle_of(case)?;
