@@ -165,7 +165,7 @@ impl<'a> FirmwareMagnets<'a> {
             p0: v.p0.clone(),
             geometry: s.geometry,
             codes: maglev_firmware_sim::heapless::Vec::new(),
-            accel: matches!(s.law, maglev_core::LawKind::State(_)).then(|| Accels {
+            accel: s.law.sensors().accel.then(|| Accels {
                 committed: vec![0.0; v.p0.len()],
                 used: vec![0.0; v.p0.len()],
                 codes: maglev_firmware_sim::heapless::Vec::new(),

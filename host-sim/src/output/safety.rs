@@ -16,7 +16,7 @@
 use crate::input::case::Case;
 use crate::physics::vehicle::Node;
 use crate::probes::{Recorder, StepView, Wheels};
-use crate::simulation::{magnet_gaps, voltage_limit};
+use crate::simulation::magnet_gaps;
 use crate::Result;
 use serde::Serialize;
 
@@ -321,7 +321,7 @@ impl Safety {
         let limit = case
             .controller
             .as_ref()
-            .and_then(|c| voltage_limit(&case.law().ok()?, c));
+            .and_then(|c| case.law.kind().voltage_bound(c));
         Safety::new(case.dt, limit)
     }
 

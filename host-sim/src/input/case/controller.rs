@@ -24,6 +24,19 @@ pub enum LawChoice {
     DesignState(StateParams),
 }
 
+impl LawChoice {
+    /// The law as far as its properties go (its sensors, control period, supply bound:
+    /// `maglev_core::law`'s questions), whether its gains are given or still to be designed
+    /// (a design keeps the law, its timing and its supply; only the gains change).
+    pub fn kind(&self) -> LawKind {
+        match *self {
+            LawChoice::Given(k) => k,
+            LawChoice::DesignGapLoop => LawKind::GapLoop(GapParams::designed()),
+            LawChoice::DesignState(s) => LawKind::State(s),
+        }
+    }
+}
+
 /// The controller parameters in SI (p0 is set per magnet by the simulation).
 pub(super) fn controller(sc: &Scenario, dt: f64) -> Result<Params> {
     let Some(c) = &sc.controller else {
@@ -72,26 +85,14 @@ pub(super) fn controller(sc: &Scenario, dt: f64) -> Result<Params> {
     Ok(p)
 }
 
-/// A core parameter error under the scenario key that holds the value (the core names its
-/// parameters `i0`, `n_sub`, `v_max`, …).
+/// A core parameter error under the scenario key that holds the value: the core names the
+/// field by its key in `[controller]` ([`maglev_core::Field`]); the step is `run.dt_s`.
 fn controller_error(e: maglev_core::ParamError) -> Error {
-    use maglev_core::ParamError as P;
-    let name = match e {
-        P::NotFinite(n) | P::NotPositive(n) | P::Negative(n) => n,
-        P::AlphaOutOfRange => "alpha",
-        P::Unrepresentable { name, .. } => name,
-    };
-    let key = match name {
-        "i0" => "controller.i0_A",
-        "h0" => "controller.h0_m",
-        "r0" => "controller.r0_ohm",
-        "kp" => "controller.kp_V_m_per_A",
-        "ki" => "controller.ki_V_m_per_A_s",
-        "alpha" => "controller.alpha",
-        "n_sub" => "controller.nsub",
-        "v_max" => "controller.vmax_V",
-        "dt" => "run.dt_s",
-        _ => "controller",
+    let field = e.field();
+    let key = match field.key {
+        _ if field.is(maglev_core::levitation::fields::DT) => "run.dt_s".to_string(),
+        Some(k) if field.law.is_none() => format!("controller.{k}"),
+        _ => "controller".to_string(),
     };
     Error::invalid(key, e.to_string())
 }

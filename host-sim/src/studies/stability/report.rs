@@ -12,7 +12,6 @@ use crate::studies::stability::vehicle::VehiclePlant;
 use crate::studies::stability::Complex;
 use maglev_core::law::state::StateParams;
 use maglev_core::levitation::GRAVITY;
-use maglev_core::{LawKind, Params};
 use serde::Serialize;
 
 /// One magnet's plant as the analysis used it (SI).
@@ -128,20 +127,6 @@ pub fn vehicle_of(case: &Case) -> crate::Result<(VehicleModel, f64, Builder)> {
     }
 }
 
-/// The period at which `law` updates the coil voltage (s): the state law's control period,
-/// else the inner law's sub-step (`dt/n_sub`, or the accurate scheme's Gauss interval).
-pub fn control_period(law: &LawKind, inner: &Params, dt: f64) -> f64 {
-    match law {
-        LawKind::State(s) => dt / s.periods(dt) as f64,
-        _ => match inner.scheme {
-            maglev_core::Scheme::Paper => dt / inner.n_sub as f64,
-            maglev_core::Scheme::Accurate => {
-                dt / maglev_core::levitation::accurate::intervals(&Params { dt, ..*inner }) as f64
-            }
-        },
-    }
-}
-
 /// The delay in series in the margins: 1.5 control periods (module docs of
 /// [`crate::studies::stability::margins`]; docs/levitation.md "The delay").
 pub const DELAY_PERIODS: f64 = 1.5;
@@ -187,12 +172,9 @@ pub fn scenario_report(
     let critical = critical_mass(magnet_mass, |m| {
         VehiclePlant::new(&build(m)?, &inner, &law, geometry)
     })?;
-    let period = control_period(&law, &inner, case.dt);
+    let period = law.control_period(&inner, case.dt);
     let delay = DELAY_PERIODS * period;
-    let vmax = match law {
-        LawKind::State(s) => Some(s.v_max),
-        _ => Some(inner.v_max).filter(|v| v.is_finite()),
-    };
+    let vmax = law.voltage_bound(&inner);
     let plant_report = plant
         .magnets
         .iter()
@@ -221,9 +203,9 @@ pub fn scenario_report(
     } else {
         "no zero pole: the gap loop restores every gap to h0".to_string()
     };
-    let gap_loop = match law {
-        LawKind::Paper | LawKind::State(_) => None,
-        LawKind::GapLoop(g) => {
+    let gap_loop = match law.gap_loop().copied() {
+        None => None,
+        Some(g) => {
             let loops = crate::studies::stability::design::per_magnet_loops(&v, &inner);
             let (p, s, body) = loops
                 .first()
@@ -253,10 +235,7 @@ pub fn scenario_report(
         law: law.name().as_str(),
         magnet_mass_kg: magnet_mass,
         plant: plant_report,
-        gains: match law {
-            LawKind::State(s) => Some(s),
-            _ => None,
-        },
+        gains: law.state().copied(),
         ideal_poles: vd.poles.iter().map(|p| [p.re, p.im]).collect(),
         min_damping_ratio: min_damping(&vd.poles),
         delay_note: format!(
