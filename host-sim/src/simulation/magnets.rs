@@ -60,6 +60,8 @@ pub struct CoreMagnets<L: Control<f64> = Law<f64>> {
     coils: Vec<[Coil; 3]>,
     /// Which trial the last `forces` left.
     pending: Pending,
+    /// Whether every wheel's law batches ([`Control::batch`], asked once).
+    batches: bool,
     status: Status,
     geometry: Geometry,
 }
@@ -124,6 +126,7 @@ impl<L: Control<f64>> CoreMagnets<L> {
                 })
                 .collect(),
             pending: Pending::None,
+            batches: ctl.iter().all(|c| c.law.batch().is_some()),
             ctl,
             status: Status::default(),
             geometry: s.geometry,
@@ -229,7 +232,7 @@ impl<L: Control<f64>> Magnets for CoreMagnets<L> {
         self.pending = Pending::None;
         self.status = Status::default();
         let finite = gaps_next.iter().all(|g| g.0.is_finite() && g.1.is_finite());
-        if finite && self.ctl.iter().all(|c| c.law.batch().is_some()) {
+        if finite && self.batches {
             self.paper_batch(gaps_next, out);
         } else {
             self.general(gaps_next, accels, out);
