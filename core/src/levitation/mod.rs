@@ -109,34 +109,56 @@ impl Scheme {
 }
 
 /// Controller parameters in SI units, designed in `f64` (paper §4.2 values from [`Params::paper`]).
+///
+/// Its serde names carry the units and are the scenario's `[controller]` keys ([`fields`]);
+/// unknown keys are refused. `p0` and `dt` are not serialised (read back as 1 N and 0 s):
+/// they are the magnet's static load and the run's step, set where the law meets its magnet.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Params {
     /// Nominal current i0 (A).
+    #[cfg_attr(feature = "serde", serde(rename = "i0_A"))]
     pub i0: f64,
     /// Nominal gap h0 (m).
+    #[cfg_attr(feature = "serde", serde(rename = "h0_m"))]
     pub h0: f64,
     /// Coil resistance R0 (Ω).
+    #[cfg_attr(feature = "serde", serde(rename = "r0_ohm"))]
     pub r0: f64,
     /// Proportional gain KP (V per A/m).
+    #[cfg_attr(feature = "serde", serde(rename = "kp_V_m_per_A"))]
     pub kp: f64,
     /// Integral gain KI (V per A/m·s).
+    #[cfg_attr(feature = "serde", serde(rename = "ki_V_m_per_A_s"))]
     pub ki: f64,
     /// Static load carried by the magnet p0 (N); fixes K0 (Eq. 7).
+    #[cfg_attr(feature = "serde", serde(skip, default = "one"))]
     pub p0: f64,
     /// α of the α-method, in [0, 1].
     pub alpha: f64,
     /// Outer time step Δt (s).
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub dt: f64,
     /// Number of internal-loop sub-steps per outer step (≥ 1).
+    #[cfg_attr(feature = "serde", serde(rename = "nsub"))]
     pub n_sub: u32,
     /// Gap interpolation inside the outer step.
+    #[cfg_attr(feature = "serde", serde(rename = "interp"))]
     pub interpolation: Interpolation,
     /// Supply voltage bound (V), `f64::INFINITY` for none.
+    #[cfg_attr(feature = "serde", serde(rename = "vmax_V"))]
     pub v_max: f64,
     /// Integrator of the coil + PI equations (the paper's by default).
+    #[cfg_attr(feature = "serde", serde(default))]
     pub scheme: Scheme,
+}
+
+/// The static load a deserialised [`Params`] starts with (set per magnet).
+#[cfg(feature = "serde")]
+const fn one() -> f64 {
+    1.0
 }
 
 /// Standard gravity used for the paper's loads (m/s²).

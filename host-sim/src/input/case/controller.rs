@@ -45,37 +45,29 @@ pub(super) fn controller(sc: &Scenario, dt: f64) -> Result<Params> {
             "the scenario has no [controller] section",
         ));
     };
+    // The core's own type as read; the static load is set per magnet by the simulation.
     let p = Params {
-        i0: c.i0_A,
-        h0: c.h0_m,
-        r0: c.r0_ohm,
-        kp: c.kp_V_m_per_A,
-        ki: c.ki_V_m_per_A_s,
         p0: 1.0,
-        alpha: c.alpha,
         dt,
-        n_sub: c.nsub,
-        interpolation: c.interp,
-        v_max: c.vmax_V,
-        scheme: c.scheme,
+        ..c.magnet
     };
     for (key, v) in [
-        ("controller.i0_A", c.i0_A),
-        ("controller.h0_m", c.h0_m),
-        ("controller.r0_ohm", c.r0_ohm),
-        ("controller.kp_V_m_per_A", c.kp_V_m_per_A),
-        ("controller.ki_V_m_per_A_s", c.ki_V_m_per_A_s),
-        ("controller.vmax_V", c.vmax_V),
+        ("controller.i0_A", p.i0),
+        ("controller.h0_m", p.h0),
+        ("controller.r0_ohm", p.r0),
+        ("controller.kp_V_m_per_A", p.kp),
+        ("controller.ki_V_m_per_A_s", p.ki),
+        ("controller.vmax_V", p.v_max),
     ] {
         if v.is_finite() {
             in_range(key, v)?;
         }
     }
-    if c.h0_m > 0.0 && c.h0_m.is_finite() {
+    if p.h0 > 0.0 && p.h0.is_finite() {
         // Smaller gaps make the sub-step coefficients of Eq. 14 overflow (h/τ = inf at 1e-300).
         within(
             "controller.h0_m",
-            c.h0_m,
+            p.h0,
             1e-4,
             1.0,
             "m: a tenth of a millimetre to a metre; EMS gaps are 8–10 mm",
@@ -108,9 +100,9 @@ pub(super) fn law(
     let Some((c, Some(_))) = sc.controller.as_ref().map(|c| (c, controller)) else {
         return Ok(LawChoice::Given(LawKind::Paper));
     };
-    match c.law {
+    match c.law.law {
         LawName::Paper => Ok(LawChoice::Given(LawKind::Paper)),
-        LawName::State => state_law(c.state.as_ref(), geometry),
+        LawName::State => state_law(c.law.state.as_ref(), geometry),
         LawName::GapLoop => Ok(match train {
             // Designed for this case's vehicle; a train without magnets runs none.
             TrainCase::Fig1 { .. } | TrainCase::Maglev { .. } | TrainCase::Unit(_) => {
