@@ -1,9 +1,9 @@
 //! Error codes: every fallible function returns an `int32_t`, 0 for success, otherwise the
 //! [`maglev_error`] that names the argument or parameter field at fault.
 //!
-//! The core names a bad parameter by a string ([`ParamError`]); [`from_param_error`] maps each
-//! of those names to the field of [`crate::maglev_params`] it comes from, so a C caller gets a
-//! number it can switch on and [`maglev_error_field_name`] / [`maglev_error_message`] turn it
+//! The core names a bad parameter as data ([`ParamError::field`]: its law and key);
+//! [`from_param_error`] maps each core field to the field of [`crate::maglev_params`] that
+//! holds it, so a C caller gets a number it can switch on and [`maglev_error_field_name`] / [`maglev_error_message`] turn it
 //! back into text.
 
 use core::ffi::c_char;
@@ -228,38 +228,46 @@ impl maglev_error {
 
 /// The field of [`crate::maglev_params`] (or the gap argument) a core error names.
 pub fn from_param_error(e: &ParamError) -> maglev_error {
-    let name = match e {
-        ParamError::NotFinite(n) | ParamError::NotPositive(n) | ParamError::Negative(n) => *n,
-        ParamError::AlphaOutOfRange => return MAGLEV_ERROR_ALPHA,
-        ParamError::Unrepresentable { name: "h", .. } => return MAGLEV_ERROR_GAP,
-        ParamError::Unrepresentable { .. } => return MAGLEV_ERROR_UNREPRESENTABLE,
-    };
-    match name {
-        "i0" => MAGLEV_ERROR_I0,
-        "h0" => MAGLEV_ERROR_H0,
-        "r0" => MAGLEV_ERROR_R0,
-        "kp" => MAGLEV_ERROR_KP,
-        "ki" => MAGLEV_ERROR_KI,
-        "p0" => MAGLEV_ERROR_P0,
-        "alpha" => MAGLEV_ERROR_ALPHA,
-        "dt" => MAGLEV_ERROR_DT,
-        "n_sub" => MAGLEV_ERROR_N_SUB,
-        "v_max" => MAGLEV_ERROR_V_MAX,
-        "gap kp" => MAGLEV_ERROR_GAP_KP,
-        "gap kd" => MAGLEV_ERROR_GAP_KD,
-        "gap tf" => MAGLEV_ERROR_GAP_TF,
-        "gap x_ref_max" => MAGLEV_ERROR_GAP_X_REF_MAX,
-        "state kp" => MAGLEV_ERROR_STATE_KP,
-        "state kd" => MAGLEV_ERROR_STATE_KD,
-        "state ka" => MAGLEV_ERROR_STATE_KA,
-        "state ki" => MAGLEV_ERROR_STATE_KI,
-        "state kc" => MAGLEV_ERROR_STATE_KC,
-        "state v_max" | "state v_max − R0·i0" => MAGLEV_ERROR_STATE_V_MAX,
-        "state rate_hz" | "state rate_hz (at least 2π·observer_hz)" => MAGLEV_ERROR_STATE_RATE,
-        "state observer_hz" => MAGLEV_ERROR_STATE_OBSERVER,
-        "h" => MAGLEV_ERROR_GAP,
-        _ => MAGLEV_ERROR_OTHER,
+    use maglev_core::gap_control::fields as gap;
+    use maglev_core::law::state::fields as state;
+    use maglev_core::levitation::fields as magnet;
+    let field = e.field();
+    if field.is(magnet::GAP) {
+        return MAGLEV_ERROR_GAP;
     }
+    if let ParamError::Unrepresentable { .. } = e {
+        return MAGLEV_ERROR_UNREPRESENTABLE;
+    }
+    // Each core field ([`maglev_core::Field`], law and key) and the code of the C field
+    // that holds it.
+    let codes = [
+        (magnet::I0, MAGLEV_ERROR_I0),
+        (magnet::H0, MAGLEV_ERROR_H0),
+        (magnet::R0, MAGLEV_ERROR_R0),
+        (magnet::KP, MAGLEV_ERROR_KP),
+        (magnet::KI, MAGLEV_ERROR_KI),
+        (magnet::P0, MAGLEV_ERROR_P0),
+        (magnet::ALPHA, MAGLEV_ERROR_ALPHA),
+        (magnet::DT, MAGLEV_ERROR_DT),
+        (magnet::N_SUB, MAGLEV_ERROR_N_SUB),
+        (magnet::V_MAX, MAGLEV_ERROR_V_MAX),
+        (gap::KP, MAGLEV_ERROR_GAP_KP),
+        (gap::KD, MAGLEV_ERROR_GAP_KD),
+        (gap::TF, MAGLEV_ERROR_GAP_TF),
+        (gap::X_REF_MAX, MAGLEV_ERROR_GAP_X_REF_MAX),
+        (state::KP, MAGLEV_ERROR_STATE_KP),
+        (state::KD, MAGLEV_ERROR_STATE_KD),
+        (state::KA, MAGLEV_ERROR_STATE_KA),
+        (state::KI, MAGLEV_ERROR_STATE_KI),
+        (state::KC, MAGLEV_ERROR_STATE_KC),
+        (state::V_MAX, MAGLEV_ERROR_STATE_V_MAX),
+        (state::RATE, MAGLEV_ERROR_STATE_RATE),
+        (state::OBSERVER, MAGLEV_ERROR_STATE_OBSERVER),
+    ];
+    codes
+        .iter()
+        .find(|(f, _)| field.is(*f))
+        .map_or(MAGLEV_ERROR_OTHER, |&(_, code)| code)
 }
 
 /// The name of the field (or argument) an error code names, as the C structs spell it

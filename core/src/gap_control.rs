@@ -51,7 +51,27 @@
 //! converts once to the run-time type. No allocation, no panic.
 
 use crate::guidance::PairOutput;
+use crate::law::{Field, LawName};
 use crate::levitation::{Levitation, Output, ParamError, State, Status};
+
+/// The gap loop's gains as errors name them ([`Field`]; keys as [`GapParams`] serialises
+/// them).
+pub mod fields {
+    use crate::law::{Field, LawName::GapLoop};
+    /// `kp`.
+    pub const KP: Field = Field::of(GapLoop, "kp", "gap kp");
+    /// `kd`.
+    pub const KD: Field = Field::of(GapLoop, "kd_s", "gap kd");
+    /// `tf`.
+    pub const TF: Field = Field::of(GapLoop, "tf_s", "gap tf");
+    /// `x_ref_max`.
+    pub const X_REF_MAX: Field = Field::of(GapLoop, "x_ref_max", "gap x_ref_max");
+}
+
+/// A coefficient derived from the gap loop's gains.
+const fn derived(name: &'static str) -> Field {
+    Field::derived(Some(LawName::GapLoop), name)
+}
 use crate::scalar::Scalar;
 
 /// Outer-loop gains, per unit of the inner law's `(g0, h0)` (see the module docs).
@@ -99,22 +119,22 @@ impl GapParams {
     /// positive under "ems", negative under "paper", docs/gap-loop.md); `tf ≥ 0`.
     pub fn validate(&self) -> Result<(), ParamError> {
         for (name, v) in [
-            ("gap kp", self.kp),
-            ("gap kd", self.kd),
-            ("gap tf", self.tf),
+            (fields::KP, self.kp),
+            (fields::KD, self.kd),
+            (fields::TF, self.tf),
         ] {
             if !v.is_finite() {
                 return Err(ParamError::NotFinite(name));
             }
         }
         if self.tf < 0.0 {
-            return Err(ParamError::Negative("gap tf"));
+            return Err(ParamError::Negative(fields::TF));
         }
         if !self.x_ref_max.is_finite() {
-            return Err(ParamError::NotFinite("gap x_ref_max"));
+            return Err(ParamError::NotFinite(fields::X_REF_MAX));
         }
         if self.x_ref_max <= 0.0 {
-            return Err(ParamError::NotPositive("gap x_ref_max"));
+            return Err(ParamError::NotPositive(fields::X_REF_MAX));
         }
         Ok(())
     }
@@ -123,13 +143,13 @@ impl GapParams {
     pub fn compile<S: Scalar>(&self, dt: f64) -> Result<GapLoop<S>, ParamError> {
         self.validate()?;
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(ParamError::NotPositive("dt"));
+            return Err(ParamError::NotPositive(crate::levitation::fields::DT));
         }
         let coeffs = [
-            ("gap kp", self.kp),
-            ("gap kd/(tf+dt)", self.kd / (self.tf + dt)),
-            ("gap dt/(tf+dt)", dt / (self.tf + dt)),
-            ("gap x_ref_max", self.x_ref_max.min(0.9)),
+            (fields::KP, self.kp),
+            (derived("gap kd/(tf+dt)"), self.kd / (self.tf + dt)),
+            (derived("gap dt/(tf+dt)"), dt / (self.tf + dt)),
+            (fields::X_REF_MAX, self.x_ref_max.min(0.9)),
         ];
         let mut out = [S::ZERO; 4];
         for (slot, (name, value)) in out.iter_mut().zip(coeffs) {

@@ -11,7 +11,7 @@ pub mod levitation;
 pub mod scalar;
 mod trig;
 
-pub use law::{Law, LawKind, LawName, LawParams, LawState, Measurement};
+pub use law::{Control, Field, Law, LawKind, LawName, LawParams, LawState, Measurement, Sensors};
 pub use levitation::{
     Interpolation, Levitation, Output, ParamError, Params, Scheme, State, Status,
 };

@@ -44,8 +44,8 @@ use embedded_hal::pwm::SetDutyCycle;
 use embedded_hal::spi::SpiDevice;
 use heapless::Vec;
 use maglev_core::{
-    law::state::StateParams, Interpolation, Law, LawKind, LawParams, LawState, Levitation,
-    Measurement, Output, Params, Scalar, Status,
+    Interpolation, Law, LawParams, LawState, Levitation, Measurement, Output, Params, Scalar,
+    Status,
 };
 
 /// One channel's state.
@@ -120,7 +120,8 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
     ) -> Result<Self, ConfigFault> {
         check_config(cfg)?;
         let n = cfg.channels.len();
-        let state = matches!(cfg.law, LawKind::State(_));
+        // The law says whether it reads the accelerometers.
+        let state = cfg.law.sensors().accel;
         let mut drivers = Vec::new();
         if state {
             for (k, dev) in accels.into_iter().enumerate().take(n) {
@@ -167,13 +168,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
                 scheme: maglev_core::Scheme::Paper,
             };
             let channel = Some(k as u8);
-            let kind = match cfg.law {
-                LawKind::State(s) => LawKind::State(StateParams {
-                    geometry: cfg.geometry,
-                    ..s
-                }),
-                other => other,
-            };
+            let kind = cfg.law.with_geometry(cfg.geometry);
             let law = LawParams { magnet: p, kind }
                 .compile::<S>()
                 .map_err(|e| law_fault(e, channel))?;
@@ -237,7 +232,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
             accel_mask: 0,
             accel_offset,
             accel_span,
-            paper: matches!(cfg.law, LawKind::Paper),
+            paper: cfg.law.batches(),
             laws,
             coils,
             gap_offset,

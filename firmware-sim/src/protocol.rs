@@ -230,6 +230,15 @@ pub enum Problem {
 }
 
 impl ConfigKey {
+    /// The key of the parameters of `law` (the wire names each law's gains as one value).
+    pub const fn of_law(law: maglev_core::LawName) -> Self {
+        match law {
+            maglev_core::LawName::GapLoop => ConfigKey::GapLoop,
+            // The paper's law has no parameters of its own: a law field is the state law's.
+            maglev_core::LawName::State | maglev_core::LawName::Paper => ConfigKey::StateLaw,
+        }
+    }
+
     /// The name (as `maglev hil --set` spells it where it is a key).
     pub fn name(self) -> &'static str {
         use ConfigKey::*;

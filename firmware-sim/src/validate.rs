@@ -96,28 +96,36 @@ pub fn check_config(cfg: &Config) -> Result<(), ConfigFault> {
 
 /// The [`Config`] value a compile error of the core is about (`channel` for `p0` and gaps).
 pub fn law_fault(e: ParamError, channel: Option<u8>) -> ConfigFault {
+    use maglev_core::levitation::fields as f;
     use ConfigKey::*;
-    let (name, problem) = match e {
-        ParamError::NotFinite(n) => (n, Problem::NotFinite),
-        ParamError::NotPositive(n) | ParamError::Negative(n) => (n, Problem::OutOfRange),
-        ParamError::AlphaOutOfRange => ("alpha", Problem::OutOfRange),
-        ParamError::Unrepresentable { name, .. } => (name, Problem::Unrepresentable),
+    let problem = match e {
+        ParamError::NotFinite(_) => Problem::NotFinite,
+        ParamError::NotPositive(_) | ParamError::Negative(_) | ParamError::AlphaOutOfRange => {
+            Problem::OutOfRange
+        }
+        ParamError::Unrepresentable { .. } => Problem::Unrepresentable,
     };
-    let key = match name {
-        "i0" => I0,
-        "h0" => H0,
-        "r0" => R0,
-        "kp" => Kp,
-        "ki" => Ki,
-        "alpha" => Alpha,
-        "v_max" => VMax,
-        "p0" => P0,
-        "h" => Gap,
-        n if n.starts_with("gap ") => GapLoop,
-        n if n.starts_with("state ") => StateLaw,
-        // The sub-step coefficients (`c`, `kih`, …) and `dt` depend on the rate.
-        _ => Rate,
+    let field = e.field();
+    let magnet = [
+        (f::I0, I0),
+        (f::H0, H0),
+        (f::R0, R0),
+        (f::KP, Kp),
+        (f::KI, Ki),
+        (f::ALPHA, Alpha),
+        (f::V_MAX, VMax),
+        (f::P0, P0),
+        (f::GAP, Gap),
+    ];
+    let key = match field.law {
+        // A parameter of the configured law (its gains, or a coefficient made from them).
+        Some(law) => ConfigKey::of_law(law),
+        None => magnet
+            .iter()
+            .find(|(m, _)| field.is(*m))
+            .map_or(Rate, |&(_, k)| k),
     };
+    // The rest (the sub-step coefficients `c`, `kih`, …, and `dt`) depend on the rate.
     let per_channel = matches!(key, P0 | Gap);
     ConfigFault {
         key,

@@ -135,11 +135,11 @@ fn bad_gains_are_named() {
     gp.kd = f64::NAN;
     assert_eq!(
         gp.compile::<f64>(1e-3).err(),
-        Some(ParamError::NotFinite("gap kd"))
+        Some(ParamError::NotFinite(fields::KD))
     );
     gp = GapParams::designed();
     gp.tf = -1e-3;
-    assert_eq!(gp.validate(), Err(ParamError::Negative("gap tf")));
+    assert_eq!(gp.validate(), Err(ParamError::Negative(fields::TF)));
     // Negative gains are the paper geometry's sign (docs/gap-loop.md): accepted.
     gp = GapParams {
         kp: -4e-3,
@@ -149,7 +149,10 @@ fn bad_gains_are_named() {
     assert!(gp.compile::<f64>(1e-3).is_ok());
     gp = GapParams::designed();
     gp.x_ref_max = 0.0;
-    assert_eq!(gp.validate(), Err(ParamError::NotPositive("gap x_ref_max")));
+    assert_eq!(
+        gp.validate(),
+        Err(ParamError::NotPositive(fields::X_REF_MAX))
+    );
     assert!(GapParams::designed().compile::<f64>(0.0).is_err());
 }
 

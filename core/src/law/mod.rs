@@ -29,7 +29,14 @@
 //! A guidance pair ([`crate::guidance`]) is two magnets under the same law on the gaps
 //! `h0 ± d`: [`Law::update_pair`].
 
+mod control;
+mod field;
+mod properties;
 pub mod state;
+
+pub use control::Control;
+pub use field::Field;
+pub use properties::Sensors;
 
 use crate::gap::Geometry;
 use crate::gap_control::{GapLoop, GapParams, GapState};
@@ -55,6 +62,7 @@ pub enum LawKind {
 
 /// A law's name, as scenarios and command lines write it (`paper`, `gap-loop`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum LawName {
@@ -330,7 +338,7 @@ mod tests {
         };
         assert_eq!(
             law.compile::<f32>().unwrap_err(),
-            ParamError::Negative("gap tf")
+            ParamError::Negative(crate::gap_control::fields::TF)
         );
     }
 }

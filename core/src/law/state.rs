@@ -46,6 +46,7 @@
 //! `Ka = ka·g_n/V_b`, `Ki = ki·h0/V_b` (1/s), `Kc = kc·i0/V_b`. The integral is kept as its
 //! voltage contribution `u = Ki·∫η dt`, so equilibrium at any gap is one value of `u`.
 
+use super::{Field, LawName};
 use crate::gap::Geometry;
 use crate::levitation::{
     convert, Levitation, Output, ParamError, Params, State, Status, DEFAULT_COEFFICIENT_TOLERANCE,
@@ -97,6 +98,28 @@ pub struct StateParams {
     pub geometry: Geometry,
 }
 
+/// The state law's parameters as errors name them ([`Field`]; keys as [`StateParams`]
+/// serialises them).
+pub mod fields {
+    use crate::law::{Field, LawName::State};
+    /// `kp`.
+    pub const KP: Field = Field::of(State, "kp_V_per_m", "state kp");
+    /// `kd`.
+    pub const KD: Field = Field::of(State, "kd_V_s_per_m", "state kd");
+    /// `ka`.
+    pub const KA: Field = Field::of(State, "ka_V_s2_per_m", "state ka");
+    /// `ki`.
+    pub const KI: Field = Field::of(State, "ki_V_per_m_s", "state ki");
+    /// `kc`.
+    pub const KC: Field = Field::of(State, "kc_V_per_A", "state kc");
+    /// `v_max`.
+    pub const V_MAX: Field = Field::of(State, "vmax_V", "state v_max");
+    /// `rate_hz`.
+    pub const RATE: Field = Field::of(State, "rate_Hz", "state rate_hz");
+    /// `observer_hz`.
+    pub const OBSERVER: Field = Field::of(State, "observer_Hz", "state observer_hz");
+}
+
 /// The most control periods one update may run (rate_hz·dt): 1 s steps at 10 kHz.
 pub const MAX_PERIODS: f64 = 10_000.0;
 
@@ -119,11 +142,11 @@ impl StateParams {
     /// Checks every value, naming the first bad one.
     pub fn validate(&self) -> Result<(), ParamError> {
         for (name, v) in [
-            ("state kp", self.kp),
-            ("state kd", self.kd),
-            ("state ka", self.ka),
-            ("state ki", self.ki),
-            ("state kc", self.kc),
+            (fields::KP, self.kp),
+            (fields::KD, self.kd),
+            (fields::KA, self.ka),
+            (fields::KI, self.ki),
+            (fields::KC, self.kc),
         ] {
             if !v.is_finite() {
                 return Err(ParamError::NotFinite(name));
@@ -133,9 +156,9 @@ impl StateParams {
             }
         }
         for (name, v) in [
-            ("state v_max", self.v_max),
-            ("state rate_hz", self.rate_hz),
-            ("state observer_hz", self.observer_hz),
+            (fields::V_MAX, self.v_max),
+            (fields::RATE, self.rate_hz),
+            (fields::OBSERVER, self.observer_hz),
         ] {
             if !v.is_finite() {
                 return Err(ParamError::NotFinite(name));
@@ -167,21 +190,26 @@ impl StateParams {
         if m.dt * self.rate_hz > MAX_PERIODS {
             // One update would run that many periods: a configuration (e.g. a firmware tick
             // of 1 Hz with rate_hz = 1e9) that hangs the caller instead of controlling.
-            return Err(ParamError::NotPositive(
-                "10 000 − state rate_hz·dt (control periods per step)",
-            ));
+            return Err(ParamError::NotPositive(Field {
+                name: "10 000 − state rate_hz·dt (control periods per step)",
+                ..fields::RATE
+            }));
         }
         let n = self.periods(m.dt);
         let delta = m.dt / n as f64;
         let omega = 2.0 * PI * self.observer_hz;
         if omega * delta >= 1.0 {
-            return Err(ParamError::NotPositive(
-                "state rate_hz (at least 2π·observer_hz)",
-            ));
+            return Err(ParamError::NotPositive(Field {
+                name: "state rate_hz (at least 2π·observer_hz)",
+                ..fields::RATE
+            }));
         }
         let vb = m.v_base();
         if self.v_max <= vb {
-            return Err(ParamError::NotPositive("state v_max − R0·i0"));
+            return Err(ParamError::NotPositive(Field {
+                name: "state v_max − R0·i0",
+                ..fields::V_MAX
+            }));
         }
         let coil = Params {
             kp: 0.0,
@@ -195,7 +223,13 @@ impl StateParams {
         }
         .compile::<S>()?;
         let sigma = self.geometry.levitation_sign();
-        let c = |name, v| convert::<S>(name, v, DEFAULT_COEFFICIENT_TOLERANCE);
+        let c = |name, v| {
+            convert::<S>(
+                Field::derived(Some(LawName::State), name),
+                v,
+                DEFAULT_COEFFICIENT_TOLERANCE,
+            )
+        };
         let v_max = c("state v_max/Vb", self.v_max / vb)?;
         Ok(StateLaw {
             params: *self,
@@ -697,24 +731,33 @@ mod tests {
         let g = gains(2.0 * vb_h0, 100.0);
         assert_eq!(
             compile(StateParams { kd: -1.0, ..g }),
-            ParamError::Negative("state kd")
+            ParamError::Negative(fields::KD)
         );
         assert_eq!(
             compile(StateParams { v_max: 40.0, ..g }),
-            ParamError::NotPositive("state v_max − R0·i0")
+            ParamError::NotPositive(Field {
+                name: "state v_max − R0·i0",
+                ..fields::V_MAX
+            })
         );
         assert_eq!(
             compile(StateParams {
                 rate_hz: 1000.0,
                 ..g
             }),
-            ParamError::NotPositive("state rate_hz (at least 2π·observer_hz)")
+            ParamError::NotPositive(Field {
+                name: "state rate_hz (at least 2π·observer_hz)",
+                ..fields::RATE
+            })
         );
         // 1e8 periods in one update would hang the caller (a firmware tick far slower than
         // the control rate): refused.
         assert_eq!(
             compile(StateParams { rate_hz: 1e11, ..g }),
-            ParamError::NotPositive("10 000 − state rate_hz·dt (control periods per step)")
+            ParamError::NotPositive(Field {
+                name: "10 000 − state rate_hz·dt (control periods per step)",
+                ..fields::RATE
+            })
         );
     }
 }

@@ -159,7 +159,7 @@ impl<S: Scalar> Gauss<S> {
             }
         }
         let ba = [0.5 * (a[0][0] + a[1][0]), 0.5 * (a[0][1] + a[1][1])];
-        let cv = |name, v| convert::<S>(name, v, tolerance);
+        let cv = |name, v| convert::<S>(crate::law::Field::derived(None, name), v, tolerance);
         let mat = |name, m: [[f64; 2]; 2]| -> Result<[[S; 2]; 2], ParamError> {
             Ok([
                 [cv(name, m[0][0])?, cv(name, m[0][1])?],

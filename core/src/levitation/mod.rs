@@ -57,6 +57,7 @@
 //! integrates the same continuous system — the limit of the paper scheme as `n_sub → ∞` — by
 //! the 2-stage Gauss–Legendre method (order 4), see [`accurate`]; it ignores `n_sub` and `α`.
 
+use crate::law::Field;
 use crate::scalar::Scalar;
 
 pub mod accurate;
@@ -108,34 +109,56 @@ impl Scheme {
 }
 
 /// Controller parameters in SI units, designed in `f64` (paper §4.2 values from [`Params::paper`]).
+///
+/// Its serde names carry the units and are the scenario's `[controller]` keys ([`fields`]);
+/// unknown keys are refused. `p0` and `dt` are not serialised (read back as 1 N and 0 s):
+/// they are the magnet's static load and the run's step, set where the law meets its magnet.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Params {
     /// Nominal current i0 (A).
+    #[cfg_attr(feature = "serde", serde(rename = "i0_A"))]
     pub i0: f64,
     /// Nominal gap h0 (m).
+    #[cfg_attr(feature = "serde", serde(rename = "h0_m"))]
     pub h0: f64,
     /// Coil resistance R0 (Ω).
+    #[cfg_attr(feature = "serde", serde(rename = "r0_ohm"))]
     pub r0: f64,
     /// Proportional gain KP (V per A/m).
+    #[cfg_attr(feature = "serde", serde(rename = "kp_V_m_per_A"))]
     pub kp: f64,
     /// Integral gain KI (V per A/m·s).
+    #[cfg_attr(feature = "serde", serde(rename = "ki_V_m_per_A_s"))]
     pub ki: f64,
     /// Static load carried by the magnet p0 (N); fixes K0 (Eq. 7).
+    #[cfg_attr(feature = "serde", serde(skip, default = "one"))]
     pub p0: f64,
     /// α of the α-method, in [0, 1].
     pub alpha: f64,
     /// Outer time step Δt (s).
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub dt: f64,
     /// Number of internal-loop sub-steps per outer step (≥ 1).
+    #[cfg_attr(feature = "serde", serde(rename = "nsub"))]
     pub n_sub: u32,
     /// Gap interpolation inside the outer step.
+    #[cfg_attr(feature = "serde", serde(rename = "interp"))]
     pub interpolation: Interpolation,
     /// Supply voltage bound (V), `f64::INFINITY` for none.
+    #[cfg_attr(feature = "serde", serde(rename = "vmax_V"))]
     pub v_max: f64,
     /// Integrator of the coil + PI equations (the paper's by default).
+    #[cfg_attr(feature = "serde", serde(default))]
     pub scheme: Scheme,
+}
+
+/// The static load a deserialised [`Params`] starts with (set per magnet).
+#[cfg(feature = "serde")]
+const fn one() -> f64 {
+    1.0
 }
 
 /// Standard gravity used for the paper's loads (m/s²).
@@ -190,11 +213,11 @@ impl Params {
     /// Checks every parameter, naming the first bad one.
     pub fn validate(&self) -> Result<(), ParamError> {
         let positive = [
-            ("i0", self.i0),
-            ("h0", self.h0),
-            ("r0", self.r0),
-            ("p0", self.p0),
-            ("dt", self.dt),
+            (fields::I0, self.i0),
+            (fields::H0, self.h0),
+            (fields::R0, self.r0),
+            (fields::P0, self.p0),
+            (fields::DT, self.dt),
         ];
         for (name, v) in positive {
             if !v.is_finite() {
@@ -204,7 +227,11 @@ impl Params {
                 return Err(ParamError::NotPositive(name));
             }
         }
-        for (name, v) in [("kp", self.kp), ("ki", self.ki), ("alpha", self.alpha)] {
+        for (name, v) in [
+            (fields::KP, self.kp),
+            (fields::KI, self.ki),
+            (fields::ALPHA, self.alpha),
+        ] {
             if !v.is_finite() {
                 return Err(ParamError::NotFinite(name));
             }
@@ -216,13 +243,13 @@ impl Params {
             return Err(ParamError::AlphaOutOfRange);
         }
         if self.n_sub == 0 {
-            return Err(ParamError::NotPositive("n_sub"));
+            return Err(ParamError::NotPositive(fields::N_SUB));
         }
         if self.v_max.is_nan() {
-            return Err(ParamError::NotFinite("v_max"));
+            return Err(ParamError::NotFinite(fields::V_MAX));
         }
         if self.v_max <= 0.0 {
-            return Err(ParamError::NotPositive("v_max"));
+            return Err(ParamError::NotPositive(fields::V_MAX));
         }
         Ok(())
     }
@@ -340,7 +367,7 @@ impl Params {
         match self.scheme {
             Scheme::Paper => {
                 for (slot, (name, value)) in paper.iter_mut().zip(self.coefficients().iter()) {
-                    *slot = convert(name, *value, tolerance)?;
+                    *slot = convert(Field::derived(None, name), *value, tolerance)?;
                 }
             }
             Scheme::Accurate => gauss = accurate::Gauss::compile(self, tolerance)?,
@@ -350,7 +377,7 @@ impl Params {
         let mut recip = [S::ZERO; 4];
         if !S::FLOAT && self.scheme == Scheme::Paper {
             for (slot, (name, value, scale)) in recip.iter_mut().zip(self.reciprocal().iter()) {
-                *slot = convert_scaled(name, *value, *scale, tolerance)?;
+                *slot = convert_scaled(Field::derived(None, name), *value, *scale, tolerance)?;
             }
         }
         let [cr, cru, crs, crsu] = recip;
@@ -365,7 +392,7 @@ impl Params {
         let h_max = S::from_f64(h_max_pu, &mut ov);
         if ov {
             return Err(ParamError::Unrepresentable {
-                name: "v_max",
+                field: fields::V_MAX,
                 value: v_max_pu,
                 relative_error: f64::INFINITY,
                 scalar: S::NAME,
@@ -416,18 +443,18 @@ impl Params {
 /// `value` in the run-time type, within relative error `tolerance` (else
 /// [`ParamError::Unrepresentable`] naming it).
 pub(crate) fn convert<S: Scalar>(
-    name: &'static str,
+    field: Field,
     value: f64,
     tolerance: f64,
 ) -> Result<S, ParamError> {
-    convert_scaled(name, value, value, tolerance)
+    convert_scaled(field, value, value, tolerance)
 }
 
 /// `value` in the run-time type with an absolute error of at most `tolerance·scale` (else
 /// [`ParamError::Unrepresentable`], the error given relative to `scale`): for a coefficient
 /// that only ever corrects a larger one of magnitude `scale`.
 fn convert_scaled<S: Scalar>(
-    name: &'static str,
+    field: Field,
     value: f64,
     scale: f64,
     tolerance: f64,
@@ -441,7 +468,7 @@ fn convert_scaled<S: Scalar>(
     };
     if ov || rel.is_nan() || rel > tolerance {
         return Err(ParamError::Unrepresentable {
-            name,
+            field,
             value,
             relative_error: rel,
             scalar: S::NAME,
@@ -456,25 +483,65 @@ const FAST_H_MAX: f64 = 2.0;
 /// Largest relative error accepted when converting a run-time coefficient to its type.
 pub const DEFAULT_COEFFICIENT_TOLERANCE: f64 = 1e-4;
 
-/// A parameter that cannot be used, by name.
+/// A parameter that cannot be used, named as data ([`Field`]: its law and key).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum ParamError {
     /// NaN or infinite.
-    NotFinite(&'static str),
+    NotFinite(Field),
     /// Must be > 0.
-    NotPositive(&'static str),
+    NotPositive(Field),
     /// Must be ≥ 0.
-    Negative(&'static str),
+    Negative(Field),
     /// α outside [0, 1].
     AlphaOutOfRange,
     /// The run-time type cannot represent a coefficient accurately enough.
     Unrepresentable {
-        name: &'static str,
+        /// The coefficient (a parameter, the gap, or one derived from several).
+        field: Field,
         value: f64,
         relative_error: f64,
         scalar: &'static str,
     },
+}
+
+impl ParamError {
+    /// The parameter (or coefficient) this error is about.
+    pub fn field(&self) -> Field {
+        match *self {
+            ParamError::NotFinite(f) | ParamError::NotPositive(f) | ParamError::Negative(f) => f,
+            ParamError::AlphaOutOfRange => fields::ALPHA,
+            ParamError::Unrepresentable { field, .. } => field,
+        }
+    }
+}
+
+/// The parameters of [`Params`] (and the gap) as errors name them, keys as `[controller]`
+/// spells them (units in the names).
+pub mod fields {
+    use crate::law::Field;
+    /// `i0`.
+    pub const I0: Field = Field::magnet("i0_A", "i0");
+    /// `h0`.
+    pub const H0: Field = Field::magnet("h0_m", "h0");
+    /// `r0`.
+    pub const R0: Field = Field::magnet("r0_ohm", "r0");
+    /// `kp`.
+    pub const KP: Field = Field::magnet("kp_V_m_per_A", "kp");
+    /// `ki`.
+    pub const KI: Field = Field::magnet("ki_V_m_per_A_s", "ki");
+    /// `p0`.
+    pub const P0: Field = Field::magnet("p0_N", "p0");
+    /// `alpha`.
+    pub const ALPHA: Field = Field::magnet("alpha", "alpha");
+    /// `dt`, the structural step.
+    pub const DT: Field = Field::magnet("dt_s", "dt");
+    /// `n_sub`.
+    pub const N_SUB: Field = Field::magnet("nsub", "n_sub");
+    /// `v_max`, the paper's law's supply bound.
+    pub const V_MAX: Field = Field::magnet("vmax_V", "v_max");
+    /// The gap a state starts from (an argument, not a parameter).
+    pub const GAP: Field = Field::magnet("gap_m", "h");
 }
 
 impl core::fmt::Display for ParamError {
@@ -485,7 +552,7 @@ impl core::fmt::Display for ParamError {
             ParamError::Negative(n) => write!(f, "parameter {n} must not be negative"),
             ParamError::AlphaOutOfRange => write!(f, "parameter alpha must lie in [0, 1]"),
             ParamError::Unrepresentable {
-                name,
+                field: name,
                 value,
                 relative_error,
                 scalar,
@@ -647,16 +714,16 @@ impl<S: Scalar> Levitation<S> {
 
     fn check_gap(&self, h: f64) -> Result<(), ParamError> {
         if !h.is_finite() {
-            return Err(ParamError::NotFinite("h"));
+            return Err(ParamError::NotFinite(fields::GAP));
         }
         if h <= 0.0 {
-            return Err(ParamError::NotPositive("h"));
+            return Err(ParamError::NotPositive(fields::GAP));
         }
         let mut ov = false;
         let pu = self.gap_pu(h, &mut ov);
         if ov || pu > self.h_max {
             return Err(ParamError::Unrepresentable {
-                name: "h",
+                field: fields::GAP,
                 value: h / self.params.h0,
                 relative_error: f64::INFINITY,
                 scalar: S::NAME,

@@ -151,23 +151,23 @@ fn nan_gap_holds_state() {
 fn bad_parameters_are_named() {
     let mut p = paper(1, Interpolation::Linear);
     p.h0 = -1.0;
-    assert_eq!(p.validate(), Err(ParamError::NotPositive("h0")));
+    assert_eq!(p.validate(), Err(ParamError::NotPositive(fields::H0)));
     let mut p = paper(1, Interpolation::Linear);
     p.alpha = 1.5;
     assert_eq!(p.validate(), Err(ParamError::AlphaOutOfRange));
     let mut p = paper(1, Interpolation::Linear);
     p.kp = f64::NAN;
-    assert_eq!(p.validate(), Err(ParamError::NotFinite("kp")));
+    assert_eq!(p.validate(), Err(ParamError::NotFinite(fields::KP)));
     let mut p = paper(1, Interpolation::Linear);
     p.n_sub = 0;
-    assert_eq!(p.validate(), Err(ParamError::NotPositive("n_sub")));
+    assert_eq!(p.validate(), Err(ParamError::NotPositive(fields::N_SUB)));
 }
 
 #[test]
 fn fixed_point_refuses_unrepresentable_sub_steps() {
     let p = paper(1000, Interpolation::Linear);
     match p.compile::<I4F28>() {
-        Err(ParamError::Unrepresentable { name, .. }) => assert_eq!(name, "c"),
+        Err(ParamError::Unrepresentable { field, .. }) => assert_eq!(field.name, "c"),
         other => panic!("expected Unrepresentable, got {other:?}"),
     }
     assert!(p.compile::<I32F32>().is_ok());

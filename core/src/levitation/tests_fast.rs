@@ -194,19 +194,22 @@ fn bad_initial_gaps_are_refused_by_name() {
     let q = p.compile::<I4F28>().unwrap();
     assert_eq!(
         f.try_initial_state(f64::NAN),
-        Err(ParamError::NotFinite("h"))
+        Err(ParamError::NotFinite(fields::GAP))
     );
     assert_eq!(
         q.try_initial_state(f64::INFINITY),
-        Err(ParamError::NotFinite("h"))
+        Err(ParamError::NotFinite(fields::GAP))
     );
     assert_eq!(
         f.try_equilibrium_state(0.0),
-        Err(ParamError::NotPositive("h"))
+        Err(ParamError::NotPositive(fields::GAP))
     );
     assert!(matches!(
         q.try_equilibrium_state(1.0),
-        Err(ParamError::Unrepresentable { name: "h", .. })
+        Err(ParamError::Unrepresentable {
+            field: fields::GAP,
+            ..
+        })
     ));
     assert_eq!(q.try_initial_state(0.012), Ok(q.initial_state(0.012)));
     assert_eq!(

@@ -55,9 +55,11 @@ pub fn car_config(scalar: ScalarKind, v_max: f64, law: LawKind) -> Config {
         stuck_ticks: 100,
         ramp_ticks: 2000,
         watchdog_ticks: 0,
-        geometry: match law {
-            LawKind::State(_) => Geometry::Ems,
-            _ => Geometry::Paper,
+        // A law that reads the accelerometer holds EMS magnets (the state law).
+        geometry: if law.sensors().accel {
+            Geometry::Ems
+        } else {
+            Geometry::Paper
         },
     }
 }

@@ -9,7 +9,7 @@ pub use maglev_sim::safety;
 use crate::input::case::Case;
 use crate::plot::{self, Plot, Series};
 use crate::probes::CsvRecorder;
-use crate::simulation::{voltage_limit, CoilRanges, GapRanges, Outcome};
+use crate::simulation::{CoilRanges, GapRanges, Outcome};
 use crate::{Error, Result};
 use serde::Serialize;
 pub use staging::{write_atomic, Staging};
@@ -183,7 +183,7 @@ impl Summary {
         let limit = case
             .controller
             .as_ref()
-            .and_then(|c| voltage_limit(&case.law().ok()?, c));
+            .and_then(|c| case.law.kind().voltage_bound(c));
         let coils = coil_summaries(
             &outcome.coil_ranges,
             &outcome.guided,

@@ -180,7 +180,7 @@ impl<'a> FirmwareMagnets<'a> {
         self.h0 = h0;
         self.p0 = v.p0.clone();
         self.geometry = s.geometry;
-        self.accel = matches!(s.law, maglev_core::LawKind::State(_)).then(|| Accels {
+        self.accel = s.law.sensors().accel.then(|| Accels {
             committed: vec![0.0; v.p0.len()],
             used: vec![0.0; v.p0.len()],
             codes: maglev_firmware_sim::heapless::Vec::new(),

@@ -17,7 +17,6 @@ use crate::input::case::Case;
 use crate::physics::train::Node;
 use crate::physics::vehicle::magnet_gaps;
 use crate::probes::{Recorder, StepView, Wheels};
-use crate::simulation::voltage_limit;
 use crate::Result;
 use serde::Serialize;
 
@@ -329,7 +328,7 @@ impl Safety {
         let limit = case
             .controller
             .as_ref()
-            .and_then(|c| voltage_limit(&case.law().ok()?, c));
+            .and_then(|c| case.law.kind().voltage_bound(c));
         Safety::new(case.dt, limit)
     }
 

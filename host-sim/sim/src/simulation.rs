@@ -137,17 +137,6 @@ impl CoilRange {
 /// when the magnets report no coil ([`Magnets::coils`]).
 pub type CoilRanges = Vec<[CoilRange; 3]>;
 
-/// The voltage bound `V_max` (V) the law clamps at, if it has one: the state law's own
-/// `vmax_V`, otherwise the paper's Eq. 11 bound `controller.vmax_V` (the gap loop drives the
-/// paper's law); `None` when that is infinite.
-pub fn voltage_limit(law: &LawKind, controller: &Params) -> Option<f64> {
-    let v = match law {
-        LawKind::State(p) => p.v_max,
-        LawKind::Paper | LawKind::GapLoop(_) => controller.v_max,
-    };
-    v.is_finite().then_some(v)
-}
-
 /// Result of a run.
 pub struct Outcome {
     /// Steps run (t = 0 is not a step).

@@ -5,7 +5,7 @@
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::law::state::StateParams;
-use maglev_core::{Interpolation, LawName, Scheme};
+use maglev_core::{LawName, Params};
 use serde::{Deserialize, Serialize};
 
 /// Bundled scenarios: (name, TOML text).
@@ -198,35 +198,46 @@ impl<T> std::ops::DerefMut for WithSection<T> {
 
 impl<'de, T: serde::de::DeserializeOwned> Deserialize<'de> for WithSection<T> {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-        use serde::de::Error as _;
-        let mut own = toml::Table::deserialize(d)?;
-        let (own_keys, beam_keys) = (keys_of::<T>(), keys_of::<BeamSectionKeys>());
-        let known = |k: &str| own_keys.contains(&k) || beam_keys.contains(&k);
-        if let Some(k) = own.keys().find(|k| !known(k)) {
-            let all: Vec<String> = own_keys
-                .iter()
-                .chain(beam_keys)
-                .map(|k| format!("`{k}`"))
-                .collect();
-            return Err(D::Error::custom(format!(
-                "unknown field `{k}`, expected one of {}",
-                all.join(", ")
-            )));
-        }
-        let beam: toml::Table = beam_keys
+        let (own, section) = split_table(d)?;
+        Ok(WithSection { own, section })
+    }
+}
+
+/// One table read into two structs, each taking its own keys (serde's `flatten` and
+/// `deny_unknown_fields` do not combine): a key neither knows is refused as serde refuses one,
+/// naming every key of both.
+fn split_table<'de, D, A, B>(d: D) -> std::result::Result<(A, B), D::Error>
+where
+    D: serde::Deserializer<'de>,
+    A: serde::de::DeserializeOwned,
+    B: serde::de::DeserializeOwned,
+{
+    use serde::de::Error as _;
+    let mut own = toml::Table::deserialize(d)?;
+    let (own_keys, other_keys) = (keys_of::<A>(), keys_of::<B>());
+    let known = |k: &str| own_keys.contains(&k) || other_keys.contains(&k);
+    if let Some(k) = own.keys().find(|k| !known(k)) {
+        let all: Vec<String> = own_keys
             .iter()
-            .filter_map(|k| own.remove_entry(*k))
+            .chain(other_keys)
+            .map(|k| format!("`{k}`"))
             .collect();
-        let own = T::deserialize(toml::Value::Table(own));
-        let section = BeamSectionKeys::deserialize(toml::Value::Table(beam));
-        match (own, section) {
-            (Ok(own), Ok(section)) => Ok(WithSection { own, section }),
-            // serde names a wrong value before a missing key; so does this, across the halves.
-            (Err(a), Err(b)) if a.to_string().starts_with("missing field") => {
-                Err(D::Error::custom(b))
-            }
-            (Err(e), _) | (_, Err(e)) => Err(D::Error::custom(e)),
-        }
+        return Err(D::Error::custom(format!(
+            "unknown field `{k}`, expected one of {}",
+            all.join(", ")
+        )));
+    }
+    let other: toml::Table = other_keys
+        .iter()
+        .filter_map(|k| own.remove_entry(*k))
+        .collect();
+    let a = A::deserialize(toml::Value::Table(own));
+    let b = B::deserialize(toml::Value::Table(other));
+    match (a, b) {
+        (Ok(a), Ok(b)) => Ok((a, b)),
+        // serde names a wrong value before a missing key; so does this, across the halves.
+        (Err(a), Err(b)) if a.to_string().starts_with("missing field") => Err(D::Error::custom(b)),
+        (Err(e), _) | (_, Err(e)) => Err(D::Error::custom(e)),
     }
 }
 
@@ -474,29 +485,36 @@ fn twelve() -> usize {
     12
 }
 
+/// `[controller]`: the magnet, its coil and the paper's law in the core's own type (the keys
+/// `i0_A` … `vmax_V`, `scheme` are [`Params`]' serde names; its `p0` and `dt` are the vehicle's
+/// and the run's), and the law with its section.
+#[derive(Serialize, Debug, Clone)]
+pub struct ControllerSection {
+    /// The magnet, coil and paper's law (`p0` and `dt` as read: 1 N, 0 s).
+    #[serde(flatten)]
+    pub magnet: Params,
+    #[serde(flatten)]
+    pub law: LawSection,
+}
+
+/// `[controller]`'s keys beyond the magnet's: the law and its section.
 #[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
-#[allow(non_snake_case)]
-pub struct ControllerSection {
-    pub i0_A: f64,
-    pub h0_m: f64,
-    pub r0_ohm: f64,
-    pub kp_V_m_per_A: f64,
-    pub ki_V_m_per_A_s: f64,
-    pub alpha: f64,
-    pub nsub: u32,
-    pub interp: Interpolation,
-    pub vmax_V: f64,
+pub struct LawSection {
     /// `paper` (Eq. 8–14 alone, the default), `gap-loop` (the outer gap loop of
     /// `maglev_core::gap_control` at its designed gains around the paper's law) or `state`
     /// (state feedback with the gains of `[controller.state]`).
     #[serde(default)]
     pub law: LawName,
-    /// `paper` (Eq. 14 with `nsub` sub-steps, the default) or `accurate` (Gauss–Legendre).
-    #[serde(default)]
-    pub scheme: Scheme,
     /// The state law's gains and timing (`[controller.state]`), used when `law = "state"`.
     pub state: Option<StateSection>,
+}
+
+impl<'de> Deserialize<'de> for ControllerSection {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let (magnet, law) = split_table(d)?;
+        Ok(ControllerSection { magnet, law })
+    }
 }
 
 /// `[controller.state]`: the state law's gains (units in the keys, as

@@ -1,7 +1,10 @@
 //! The ideal magnets of `maglev run`: per wheel the core's levitation law and guidance pair in
 //! f64 on the exact gaps at the end of each step — the paper's scheme, with its internal loop
-//! (`n_sub`) interpolating the gap inside the step — under any [`maglev_core::Law`]. Calls the
-//! core; never a host copy of a law.
+//! (`n_sub`) interpolating the gap inside the step — under any [`maglev_core::Law`], or any
+//! other law behind the core's open interface [`maglev_core::Control`] (a law written outside
+//! the core runs here unchanged: `CoreMagnets::with_laws`). Calls the core; never a host copy
+//! of a law. What differs between laws (which sensors they read, whether their updates batch)
+//! is asked of the law.
 
 use super::{Magnets, Settings, Start, WheelGaps};
 use crate::physics::train::Train;
@@ -12,15 +15,17 @@ use maglev_core::guidance;
 use maglev_core::levitation::batch::update_batch;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::levitation::{Output, State};
-use maglev_core::{Law, LawKind, LawParams, LawState, Levitation, Measurement, Params, Status};
+use maglev_core::{Control, Law, LawKind, LawParams, Levitation, Measurement, ParamError, Params, Status};
 
-struct WheelCtl {
+struct WheelCtl<L: Control<f64>> {
     /// The law of the wheel's three magnets.
-    law: Law<f64>,
+    law: L,
+    /// Whether the law reads the magnet's acceleration (asked once, [`Control::sensors`]).
+    accel: bool,
     /// The levitation magnet's state.
-    lev_state: LawState<f64>,
+    lev_state: L::State,
     /// The guidance pair's states, `[left, right]`.
-    pair: [LawState<f64>; 2],
+    pair: [L::State; 2],
 }
 
 /// The trial state of a step, if any.
@@ -49,11 +54,18 @@ pub fn compile_law(controller: &Params, kind: LawKind, p0: f64, dt: f64) -> Resu
         .map_err(|e| Error::invalid("controller", e.to_string()))
 }
 
-/// The core's controllers of every wheel, committed and trial states. [`CoreMagnets::new`]
-/// makes them for no wheel; [`Magnets::start`] for the run's train.
-#[derive(Default)]
-pub struct CoreMagnets {
-    ctl: Vec<WheelCtl>,
+/// How [`CoreMagnets`] builds one wheel's law when a run starts: from the run's settings and
+/// the wheel's magnet (`s.controller` with its `p0` and the run's `Δt`).
+pub type Builder<L> = Box<dyn FnMut(&Settings, Params) -> std::result::Result<L, ParamError>>;
+
+/// The core's controllers of every wheel, committed and trial states: the core's [`Law`] by
+/// default, or any law `L` behind [`Control`]. Empty until [started](Magnets::start) on a
+/// run's train.
+pub struct CoreMagnets<L: Control<f64> = Law<f64>> {
+    /// Builds one wheel's law from its magnet (the run's settings, the magnet's `p0` and `Δt`)
+    /// when a run [starts](Magnets::start).
+    build: Builder<L>,
+    ctl: Vec<WheelCtl<L>>,
     /// Per magnet (levitation, guidance left, right of each wheel): its controller, state
     /// and per-unit gap, for the interleaved update of the paper's law.
     mags: Vec<Levitation<f64>>,
@@ -65,7 +77,7 @@ pub struct CoreMagnets {
     mag_out: Vec<Output<f64>>,
     /// The trial of the general path (one entry per wheel); the paper batch's trial is the
     /// inner states in `mag_st` (its filters `q` stay the committed ones).
-    trial: Vec<(LawState<f64>, [LawState<f64>; 2])>,
+    trial: Vec<(L::State, [L::State; 2])>,
     /// The general path's outputs of its trial, per wheel `[levitation, left, right]` (the
     /// batch's are in `mag_out`).
     trial_out: Vec<[Output<f64>; 3]>,
@@ -73,67 +85,115 @@ pub struct CoreMagnets {
     coils: Vec<[Coil; 3]>,
     /// Which trial the last `forces` left.
     pending: Pending,
+    /// Whether every wheel's law batches ([`Control::batch`], asked once).
+    batches: bool,
     status: Status,
     geometry: Geometry,
 }
 
 impl CoreMagnets {
-    /// The core's controllers, to be [started](Magnets::start) on a run's train.
+    /// The core's controllers (the law of the run's `s.law` on every magnet), to be
+    /// [started](Magnets::start) on a run's train.
     pub fn new() -> Self {
-        Self::default()
+        Self::with_laws(|s, magnet| {
+            LawParams {
+                magnet,
+                kind: s.law,
+            }
+            .compile::<f64>()
+        })
+    }
+}
+
+impl Default for CoreMagnets {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<L: Control<f64>> CoreMagnets<L> {
+    /// As [`CoreMagnets::new`], each wheel's controller built by `build` from the run's
+    /// settings and its magnet when the run starts: any law behind [`Control`].
+    pub fn with_laws(
+        build: impl FnMut(&Settings, Params) -> std::result::Result<L, ParamError> + 'static,
+    ) -> Self {
+        CoreMagnets {
+            build: Box::new(build),
+            ctl: Vec::new(),
+            mags: Vec::new(),
+            mag_committed: Vec::new(),
+            mag_st: Vec::new(),
+            mag_h: Vec::new(),
+            mag_out: Vec::new(),
+            trial: Vec::new(),
+            trial_out: Vec::new(),
+            coils: Vec::new(),
+            pending: Pending::None,
+            batches: false,
+            status: Status::default(),
+            geometry: Geometry::default(),
+        }
     }
 
     /// Every controller in equilibrium at the wheel's initial gaps `gaps0`
     /// ([`super::initial_gaps`]); `p0` per wheel from the vehicle, `Δt` from the run.
-    pub fn for_train(v: &Train, gaps0: &[WheelGaps], s: &Settings) -> Result<Self> {
+    fn for_train(&mut self, v: &Train, gaps0: &[WheelGaps], s: &Settings) -> Result<()> {
         let mut ctl = Vec::with_capacity(v.wheels.len());
         for (&p0, &(h_init, gy)) in v.p0.iter().zip(gaps0) {
-            let law = compile_law(&s.controller, s.law, p0, s.dt)?;
+            let mut magnet = s.controller;
+            magnet.p0 = p0;
+            magnet.dt = s.dt;
+            let law = (self.build)(s, magnet)
+                .map_err(|e| Error::invalid("controller", e.to_string()))?;
             ctl.push(WheelCtl {
+                accel: law.sensors().accel,
                 lev_state: law.equilibrium_state(h_init),
                 pair: law.pair_equilibrium_state(gy),
                 law,
             });
         }
-        let mags: Vec<Levitation<f64>> =
-            ctl.iter().flat_map(|c| [*c.law.levitation(); 3]).collect();
+        let mags: Vec<Levitation<f64>> = ctl
+            .iter()
+            .flat_map(|c| [*c.law.batch().unwrap_or(c.law.coil()); 3])
+            .collect();
         let n = mags.len();
-        let mut m = CoreMagnets {
-            mags,
-            mag_committed: vec![State::default(); n],
-            mag_st: vec![State::default(); n],
-            mag_h: vec![0.0; n],
-            mag_out: vec![Output::default(); n],
-            trial: Vec::with_capacity(ctl.len()),
-            trial_out: Vec::with_capacity(ctl.len()),
-            coils: ctl
-                .iter()
-                .map(|c| {
-                    let out = |s: &LawState<f64>| c.law.levitation().output(&s.inner);
-                    coils(
-                        &c.law,
-                        &[out(&c.lev_state), out(&c.pair[0]), out(&c.pair[1])],
-                    )
-                })
-                .collect(),
-            pending: Pending::None,
-            ctl,
-            status: Status::default(),
-            geometry: s.geometry,
-        };
-        m.gather_committed();
-        Ok(m)
+        self.mags = mags;
+        self.mag_committed = vec![State::default(); n];
+        self.mag_st = vec![State::default(); n];
+        self.mag_h = vec![0.0; n];
+        self.mag_out = vec![Output::default(); n];
+        self.trial = Vec::with_capacity(ctl.len());
+        self.trial_out = Vec::with_capacity(ctl.len());
+        self.coils = ctl
+            .iter()
+            .map(|c| {
+                let out = |s: &L::State| c.law.coil().output(L::coil_state(s));
+                coils(
+                    &c.law,
+                    &[out(&c.lev_state), out(&c.pair[0]), out(&c.pair[1])],
+                )
+            })
+            .collect();
+        self.pending = Pending::None;
+        self.batches = ctl.iter().all(|c| c.law.batch().is_some());
+        self.ctl = ctl;
+        self.status = Status::default();
+        self.geometry = s.geometry;
+        self.gather_committed();
+        Ok(())
     }
 
     /// `mag_committed` from the wheels' committed states.
     fn gather_committed(&mut self) {
         for (c, st) in self.ctl.iter().zip(self.mag_committed.chunks_exact_mut(3)) {
-            st.copy_from_slice(&[c.lev_state.inner, c.pair[0].inner, c.pair[1].inner]);
+            st.copy_from_slice(&[
+                *L::coil_state(&c.lev_state),
+                *L::coil_state(&c.pair[0]),
+                *L::coil_state(&c.pair[1]),
+            ]);
         }
     }
-}
 
-impl CoreMagnets {
     /// The paper's law on every magnet at once ([`update_batch`]: the bits of one
     /// `Levitation::update` per magnet), the guidance pairs' net forces by the core's
     /// [`guidance::update_with`] on the outputs. Finite gaps only (the per-unit guidance gaps
@@ -149,7 +209,7 @@ impl CoreMagnets {
             .zip(gaps_next)
             .zip(self.mag_h.chunks_exact_mut(3))
         {
-            let h0 = c.law.levitation().params().h0;
+            let h0 = c.law.coil().params().h0;
             let d = dy / h0;
             h.copy_from_slice(&[hz / h0, 1.0 + d, 1.0 - d]);
         }
@@ -163,7 +223,7 @@ impl CoreMagnets {
             .zip(&mut out[..n])
         {
             let (lev_out, mut l, mut r) = (o[0], o[1], o[2]);
-            let magnet = c.law.levitation().params();
+            let magnet = c.law.coil().params();
             let d = dy / magnet.h0;
             let pair_out = guidance::update_with(self.geometry, &mut l, &mut r, d, |o, _| *o);
             status = status.union(lev_out.status).union(pair_out.status);
@@ -179,14 +239,14 @@ impl CoreMagnets {
     fn general(&mut self, gaps_next: &[WheelGaps], accels: &[f64], out: &mut [(f64, f64)]) {
         for (i, c) in self.ctl.iter().enumerate() {
             let (hz, dy) = gaps_next[i];
-            let magnet = c.law.levitation().params();
+            let magnet = c.law.coil().params();
             let h0 = magnet.h0;
             let mut st = c.lev_state;
             let lev_out = c.law.update(
                 &mut st,
                 Measurement {
                     gap: hz / h0,
-                    accel: Some(accels[i] / GRAVITY),
+                    accel: c.accel.then(|| accels[i] / GRAVITY),
                     current: None,
                 },
             );
@@ -203,10 +263,9 @@ impl CoreMagnets {
     }
 }
 
-impl Magnets for CoreMagnets {
+impl<L: Control<f64>> Magnets for CoreMagnets<L> {
     fn start(&mut self, start: &Start<'_>) -> Result<()> {
-        *self = Self::for_train(start.train, start.gaps, start.settings)?;
-        Ok(())
+        self.for_train(start.train, start.gaps, start.settings)
     }
 
     /// One update of every law from the committed state to the gaps at the end of the step
@@ -225,7 +284,7 @@ impl Magnets for CoreMagnets {
         self.pending = Pending::None;
         self.status = Status::default();
         let finite = gaps_next.iter().all(|g| g.0.is_finite() && g.1.is_finite());
-        if finite && self.ctl.iter().all(|c| c.law.is_paper()) {
+        if finite && self.batches {
             self.paper_batch(gaps_next, out);
         } else {
             self.general(gaps_next, accels, out);
@@ -238,9 +297,9 @@ impl Magnets for CoreMagnets {
             Pending::None => return Err(Error::numerical("internal: commit without a step")),
             Pending::Batch => {
                 for (c, st) in self.ctl.iter_mut().zip(self.mag_st.chunks_exact(3)) {
-                    c.lev_state.inner = st[0];
-                    c.pair[0].inner = st[1];
-                    c.pair[1].inner = st[2];
+                    *L::coil_state_mut(&mut c.lev_state) = st[0];
+                    *L::coil_state_mut(&mut c.pair[0]) = st[1];
+                    *L::coil_state_mut(&mut c.pair[1]) = st[2];
                 }
                 self.mag_committed.copy_from_slice(&self.mag_st);
                 for ((c, o), coil) in self
@@ -280,9 +339,9 @@ impl Magnets for CoreMagnets {
 }
 
 /// A wheel's three magnets' coils in SI from their law's outputs `[levitation, left, right]`.
-fn coils(law: &Law<f64>, o: &[Output<f64>]) -> [Coil; 3] {
+fn coils<L: Control<f64>>(law: &L, o: &[Output<f64>]) -> [Coil; 3] {
     [0, 1, 2].map(|k| {
-        let si = law.levitation().to_si(&o[k]);
+        let si = law.coil().to_si(&o[k]);
         Coil {
             current: si.current,
             voltage: si.voltage,

@@ -6,7 +6,7 @@
 use super::controller::LawChoice;
 use super::train::TrainCase;
 use crate::{Error, Result};
-use maglev_core::{LawKind, Params};
+use maglev_core::Params;
 
 /// The most time steps a case may take (t_end / dt): 10⁷ steps is hours of wall time for a
 /// vehicle passage; a larger count is a typo in dt or t_end far more often than intent.
@@ -74,19 +74,10 @@ fn train_size(t: &TrainCase) -> (&'static str, f64, f64) {
     }
 }
 
-/// Sub-steps of one magnet update: the state law's control periods, else the paper scheme's
-/// `n_sub` or the accurate scheme's Gauss intervals
-/// (`maglev_core::levitation::accurate::intervals` at the case's step).
+/// Sub-steps of one magnet update: the law's control periods per step
+/// (`maglev_core::LawKind::sub_steps`).
 pub(super) fn sub_steps(p: &Params, law: &LawChoice, dt: f64) -> f64 {
-    if let LawChoice::Given(LawKind::State(s)) | LawChoice::DesignState(s) = law {
-        return s.periods(dt) as f64;
-    }
-    match p.scheme {
-        maglev_core::Scheme::Paper => p.n_sub as f64,
-        maglev_core::Scheme::Accurate => {
-            maglev_core::levitation::accurate::intervals(&Params { dt, ..*p }) as f64
-        }
-    }
+    law.kind().sub_steps(p, dt) as f64
 }
 
 /// Refuses a case whose per-step records or law work exceed the limits, naming the keys that

@@ -49,13 +49,13 @@ impl Case {
         match (&mut sc.controller, controller_change) {
             (Some(c), _) => {
                 if let Some(v) = changes.n_sub {
-                    c.nsub = v;
+                    c.magnet.n_sub = v;
                 }
                 if let Some(v) = changes.scheme {
-                    c.scheme = v;
+                    c.magnet.scheme = v;
                 }
                 if let Some(v) = changes.law {
-                    c.law = v;
+                    c.law.law = v;
                 }
             }
             (None, true) => {

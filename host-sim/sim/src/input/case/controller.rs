@@ -24,6 +24,19 @@ pub enum LawChoice {
     DesignState(StateParams),
 }
 
+impl LawChoice {
+    /// The law as far as its properties go (its sensors, control period, supply bound:
+    /// `maglev_core::law`'s questions), whether its gains are given or still to be designed
+    /// (a design keeps the law, its timing and its supply; only the gains change).
+    pub fn kind(&self) -> LawKind {
+        match *self {
+            LawChoice::Given(k) => k,
+            LawChoice::DesignGapLoop => LawKind::GapLoop(GapParams::designed()),
+            LawChoice::DesignState(s) => LawKind::State(s),
+        }
+    }
+}
+
 /// The controller parameters in SI (p0 is set per magnet by the simulation).
 pub(super) fn controller(sc: &Scenario, dt: f64) -> Result<Params> {
     let Some(c) = &sc.controller else {
@@ -32,37 +45,29 @@ pub(super) fn controller(sc: &Scenario, dt: f64) -> Result<Params> {
             "the scenario has no [controller] section",
         ));
     };
+    // The core's own type as read; the static load is set per magnet by the simulation.
     let p = Params {
-        i0: c.i0_A,
-        h0: c.h0_m,
-        r0: c.r0_ohm,
-        kp: c.kp_V_m_per_A,
-        ki: c.ki_V_m_per_A_s,
         p0: 1.0,
-        alpha: c.alpha,
         dt,
-        n_sub: c.nsub,
-        interpolation: c.interp,
-        v_max: c.vmax_V,
-        scheme: c.scheme,
+        ..c.magnet
     };
     for (key, v) in [
-        ("controller.i0_A", c.i0_A),
-        ("controller.h0_m", c.h0_m),
-        ("controller.r0_ohm", c.r0_ohm),
-        ("controller.kp_V_m_per_A", c.kp_V_m_per_A),
-        ("controller.ki_V_m_per_A_s", c.ki_V_m_per_A_s),
-        ("controller.vmax_V", c.vmax_V),
+        ("controller.i0_A", p.i0),
+        ("controller.h0_m", p.h0),
+        ("controller.r0_ohm", p.r0),
+        ("controller.kp_V_m_per_A", p.kp),
+        ("controller.ki_V_m_per_A_s", p.ki),
+        ("controller.vmax_V", p.v_max),
     ] {
         if v.is_finite() {
             in_range(key, v)?;
         }
     }
-    if c.h0_m > 0.0 && c.h0_m.is_finite() {
+    if p.h0 > 0.0 && p.h0.is_finite() {
         // Smaller gaps make the sub-step coefficients of Eq. 14 overflow (h/τ = inf at 1e-300).
         within(
             "controller.h0_m",
-            c.h0_m,
+            p.h0,
             1e-4,
             1.0,
             "m: a tenth of a millimetre to a metre; EMS gaps are 8–10 mm",
@@ -72,26 +77,14 @@ pub(super) fn controller(sc: &Scenario, dt: f64) -> Result<Params> {
     Ok(p)
 }
 
-/// A core parameter error under the scenario key that holds the value (the core names its
-/// parameters `i0`, `n_sub`, `v_max`, …).
+/// A core parameter error under the scenario key that holds the value: the core names the
+/// field by its key in `[controller]` ([`maglev_core::Field`]); the step is `run.dt_s`.
 fn controller_error(e: maglev_core::ParamError) -> Error {
-    use maglev_core::ParamError as P;
-    let name = match e {
-        P::NotFinite(n) | P::NotPositive(n) | P::Negative(n) => n,
-        P::AlphaOutOfRange => "alpha",
-        P::Unrepresentable { name, .. } => name,
-    };
-    let key = match name {
-        "i0" => "controller.i0_A",
-        "h0" => "controller.h0_m",
-        "r0" => "controller.r0_ohm",
-        "kp" => "controller.kp_V_m_per_A",
-        "ki" => "controller.ki_V_m_per_A_s",
-        "alpha" => "controller.alpha",
-        "n_sub" => "controller.nsub",
-        "v_max" => "controller.vmax_V",
-        "dt" => "run.dt_s",
-        _ => "controller",
+    let field = e.field();
+    let key = match field.key {
+        _ if field.is(maglev_core::levitation::fields::DT) => "run.dt_s".to_string(),
+        Some(k) if field.law.is_none() => format!("controller.{k}"),
+        _ => "controller".to_string(),
     };
     Error::invalid(key, e.to_string())
 }
@@ -107,9 +100,9 @@ pub(super) fn law(
     let Some((c, Some(_))) = sc.controller.as_ref().map(|c| (c, controller)) else {
         return Ok(LawChoice::Given(LawKind::Paper));
     };
-    match c.law {
+    match c.law.law {
         LawName::Paper => Ok(LawChoice::Given(LawKind::Paper)),
-        LawName::State => state_law(c.state.as_ref(), geometry),
+        LawName::State => state_law(c.law.state.as_ref(), geometry),
         LawName::GapLoop => Ok(match train {
             // Designed for this case's vehicle; a train without magnets runs none.
             TrainCase::Fig1 { .. } | TrainCase::Maglev { .. } | TrainCase::Unit(_) => {

@@ -209,10 +209,7 @@ impl Case {
             };
         let steps = budget::steps(t_end, dt)?;
         let law = controller::law(&sc, &train, controller.as_ref(), geometry)?;
-        if matches!(
-            law,
-            LawChoice::Given(LawKind::State(_)) | LawChoice::DesignState(_)
-        ) {
+        if law.kind().sensors().accel {
             controller::state_law_magnets(&train)?;
         }
         budget::check_budget(&budget::Budget {

@@ -111,7 +111,7 @@ pub fn study(ref_n_sub: u32) -> crate::Result<String> {
         let c = dt / n as f64 / (2.0 * p.k0() * p.g0() / p.v_base());
         let ok = match p.compile::<maglev_core::scalar::I4F28>() {
             Ok(_) => "yes".to_string(),
-            Err(ParamError::Unrepresentable { name, .. }) => format!("no ({name})"),
+            Err(ParamError::Unrepresentable { field, .. }) => format!("no ({field})"),
             Err(e) => format!("no ({e})"),
         };
         let _ = writeln!(

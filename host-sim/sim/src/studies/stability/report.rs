@@ -86,20 +86,6 @@ pub struct ScenarioReport {
     pub coupled: Option<Coupled>,
 }
 
-/// The period at which `law` updates the coil voltage (s): the state law's control period,
-/// else the inner law's sub-step (`dt/n_sub`, or the accurate scheme's Gauss interval).
-pub fn control_period(law: &LawKind, inner: &Params, dt: f64) -> f64 {
-    match law {
-        LawKind::State(s) => dt / s.periods(dt) as f64,
-        _ => match inner.scheme {
-            maglev_core::Scheme::Paper => dt / inner.n_sub as f64,
-            maglev_core::Scheme::Accurate => {
-                dt / maglev_core::levitation::accurate::intervals(&Params { dt, ..*inner }) as f64
-            }
-        },
-    }
-}
-
 /// `Err` where a run of `case` would refuse its law: each magnet wheel of `v` compiled as the
 /// run compiles it ([`crate::simulation::magnets::compile_law`]), so that no analysis judges a
 /// law that `maglev run` refuses (`vmax_V = 1e-300`).
@@ -161,12 +147,9 @@ pub fn case_report(
     let critical = critical_mass(magnet_mass, |m| {
         VehiclePlant::new(&build(m)?, &inner, &law, geometry)
     })?;
-    let period = control_period(&law, &inner, case.dt);
+    let period = law.control_period(&inner, case.dt);
     let delay = DELAY_PERIODS * period;
-    let vmax = match law {
-        LawKind::State(s) => Some(s.v_max),
-        _ => Some(inner.v_max).filter(|v| v.is_finite()),
-    };
+    let vmax = law.voltage_bound(&inner);
     let plant_report = plant
         .magnets
         .iter()
@@ -195,9 +178,9 @@ pub fn case_report(
     } else {
         "no zero pole: the gap loop restores every gap to h0".to_string()
     };
-    let gap_loop = match law {
-        LawKind::Paper | LawKind::State(_) => None,
-        LawKind::GapLoop(g) => {
+    let gap_loop = match law.gap_loop().copied() {
+        None => None,
+        Some(g) => {
             let loops = crate::studies::stability::design::per_magnet_loops(&v, &inner);
             let (p, s, body) = loops
                 .first()
@@ -227,10 +210,7 @@ pub fn case_report(
         law: law.name().as_str(),
         magnet_mass_kg: magnet_mass,
         plant: plant_report,
-        gains: match law {
-            LawKind::State(s) => Some(s),
-            _ => None,
-        },
+        gains: law.state().copied(),
         ideal_poles: vd.poles.iter().map(|p| [p.re, p.im]).collect(),
         min_damping_ratio: min_damping(&vd.poles),
         delay_note: format!(

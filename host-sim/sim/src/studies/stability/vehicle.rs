@@ -230,19 +230,16 @@ impl VehiclePlant {
         };
 
         // State layout: q (n), v_a (na), then per wheel: lev, guide L, guide R magnets.
-        let (gains, state_law) = match law {
-            LawKind::Paper => (None, None),
-            LawKind::GapLoop(g) => {
-                g.validate()
-                    .map_err(|e| crate::Error::invalid("gap_loop", e.to_string()))?;
-                (Some(g), None)
-            }
-            LawKind::State(sp) => {
-                sp.validate()
-                    .map_err(|e| crate::Error::invalid("controller.law", e.to_string()))?;
-                (None, Some(sp))
-            }
-        };
+        // The plant arm of each law: the gap loop's reference filter, the state law's
+        // observer and integral (the paper's law has neither).
+        law.validate().map_err(|e| {
+            let key = match law.gap_loop() {
+                Some(_) => "gap_loop",
+                None => "controller.law",
+            };
+            crate::Error::invalid(key, e.to_string())
+        })?;
+        let (gains, state_law) = (law.gap_loop(), law.state());
         let delay = delay.filter(|_| gains.is_some());
         let per = 2 + usize::from(gains.is_some()) + usize::from(delay.is_some());
         let nm = n + na;
