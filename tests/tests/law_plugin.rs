@@ -14,7 +14,7 @@ use maglev_sim::input::case::Case;
 use maglev_sim::probes::NoRecorder;
 use maglev_sim::setup::Passage;
 use maglev_sim::simulation::magnets::CoreMagnets;
-use maglev_sim::simulation::{couple, Load, Magnets};
+use maglev_sim::simulation::{couple, Load, Magnets, Start};
 
 /// Holds the coil at `V` (V): the paper's coil with no gains, its voltage `V_b·(1 + y)` with
 /// `y` fixed.
@@ -102,10 +102,15 @@ fn a_hold_written_here_runs_in_the_hosts_magnets() {
     let h0 = s.controller.h0;
     let h1 = 1.1 * h0;
     let volts = s.controller.v_base();
-    let mut magnets = CoreMagnets::with_laws(train, &vec![(h1, 0.0); train.wheels.len()], s, |m| {
-        Hold::new(m, volts)
-    })
-    .unwrap();
+    let mut magnets = CoreMagnets::with_laws(move |_, m| Hold::new(m, volts));
+    let gaps0 = vec![(h1, 0.0); train.wheels.len()];
+    magnets
+        .start(&Start {
+            train,
+            gaps: &gaps0,
+            settings: s,
+        })
+        .unwrap();
     let gaps = vec![(h1, 0.0); train.wheels.len()];
     let accels = vec![0.0; train.wheels.len()];
     let mut out = vec![(0.0, 0.0); train.wheels.len()];
@@ -154,10 +159,17 @@ fn a_hold_written_here_runs_in_the_coupled_loop() {
         let gaps0 = maglev_sim::simulation::initial_gaps(train, &p.profiles, s.controller.h0);
         let volts = s.controller.v_base();
         let mut magnets: Box<dyn Magnets> = if hold {
-            Box::new(CoreMagnets::with_laws(train, &gaps0, s, |m| Hold::new(m, volts)).unwrap())
+            Box::new(CoreMagnets::with_laws(move |_, m| Hold::new(m, volts)))
         } else {
-            Box::new(CoreMagnets::new(train, &gaps0, s).unwrap())
+            Box::new(CoreMagnets::new())
         };
+        magnets
+            .start(&Start {
+                train,
+                gaps: &gaps0,
+                settings: s,
+            })
+            .unwrap();
         let outcome = couple(
             &mut p.guideway,
             train,
@@ -165,7 +177,7 @@ fn a_hold_written_here_runs_in_the_coupled_loop() {
             s,
             magnets.as_mut(),
             &mut NoRecorder,
-            |_| {},
+            &mut (),
         )
         .unwrap();
         (outcome, volts)

@@ -166,7 +166,7 @@ fn check_speed(speed: f64) {
     let (h0, p0) = (p.h0, p.p0());
     let sc = scenario::load("paper-4.2", &[]).unwrap();
     let dt = sc.run.dt_s;
-    let nsub = sc.controller.as_ref().unwrap().nsub;
+    let nsub = sc.controller.as_ref().unwrap().magnet.n_sub;
     assert!(
         nsub / 2 * 2 == nsub,
         "the sub-step doubling below needs an even n_sub"

@@ -15,7 +15,9 @@ use maglev_core::guidance;
 use maglev_core::levitation::batch::update_batch;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::levitation::{Output, State};
-use maglev_core::{Control, Law, LawKind, LawParams, Levitation, Measurement, ParamError, Params, Status};
+use maglev_core::{
+    Control, Law, LawKind, LawParams, Levitation, Measurement, ParamError, Params, Status,
+};
 
 struct WheelCtl<L: Control<f64>> {
     /// The law of the wheel's three magnets.
@@ -143,8 +145,8 @@ impl<L: Control<f64>> CoreMagnets<L> {
             let mut magnet = s.controller;
             magnet.p0 = p0;
             magnet.dt = s.dt;
-            let law = (self.build)(s, magnet)
-                .map_err(|e| Error::invalid("controller", e.to_string()))?;
+            let law =
+                (self.build)(s, magnet).map_err(|e| Error::invalid("controller", e.to_string()))?;
             ctl.push(WheelCtl {
                 accel: law.sensors().accel,
                 lev_state: law.equilibrium_state(h_init),
@@ -356,6 +358,13 @@ mod tests {
     use crate::physics::vehicle::{Fig1, VehicleModel};
     use maglev_core::levitation::{Params, Scheme};
 
+    /// The core's controllers started on `train`.
+    fn started(train: &Train, gaps0: &[WheelGaps], s: &Settings) -> CoreMagnets {
+        let mut m = CoreMagnets::new();
+        m.for_train(train, gaps0, s).unwrap();
+        m
+    }
+
     fn noise(s: &mut u64) -> f64 {
         *s ^= *s << 13;
         *s ^= *s >> 7;
@@ -390,9 +399,9 @@ mod tests {
             let nw = train.wheels.len();
             let gaps0 = vec![(h0, 0.0); nw];
             let accels = vec![0.0; nw];
-            let mut batch = CoreMagnets::for_train(&train, &gaps0, &s).unwrap();
-            let mut general = CoreMagnets::for_train(&train, &gaps0, &s).unwrap();
-            let mut mixed = CoreMagnets::for_train(&train, &gaps0, &s).unwrap();
+            let mut batch = started(&train, &gaps0, &s);
+            let mut general = started(&train, &gaps0, &s);
+            let mut mixed = started(&train, &gaps0, &s);
             let (mut fb, mut fg, mut fm) = (
                 vec![(0.0, 0.0); nw],
                 vec![(0.0, 0.0); nw],

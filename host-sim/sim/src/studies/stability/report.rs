@@ -4,6 +4,7 @@
 //! per-magnet loop poles.
 
 use crate::input::case::Case;
+use crate::physics::vehicle::VehicleModel;
 use crate::studies::stability::coupled::{coupled, Coupled};
 use crate::studies::stability::girder::GirderMode;
 use crate::studies::stability::margins::{margins, Margins};
@@ -115,11 +116,7 @@ pub fn scenario_report(
     case: &Case,
     girder_modes: usize,
 ) -> crate::Result<ScenarioReport> {
-    case_report(
-        name,
-        &crate::studies::design::load(name, sets)?,
-        girder_modes,
-    )
+    case_report(name, case, girder_modes)
 }
 
 /// [`scenario_report`] of a case already loaded and resolved (`crate::studies::design`),
@@ -139,7 +136,7 @@ pub fn case_report(
         ));
     };
     let law = case.law()?;
-    runnable(&case, &v, &inner, law)?;
+    runnable(case, &v, &inner, law)?;
     let geometry = case.geometry;
     let (girder, coupled) = coupled(case, girder_modes)?.unzip();
     let plant = VehiclePlant::new(&v, &inner, &law, geometry)?;
