@@ -99,7 +99,9 @@ pub fn law_fault(e: ParamError, channel: Option<u8>) -> ConfigFault {
     use ConfigKey::*;
     let (name, problem) = match e {
         ParamError::NotFinite(n) => (n, Problem::NotFinite),
-        ParamError::NotPositive(n) | ParamError::Negative(n) => (n, Problem::OutOfRange),
+        ParamError::NotPositive(n)
+        | ParamError::Negative(n)
+        | ParamError::TooLarge { name: n, .. } => (n, Problem::OutOfRange),
         ParamError::AlphaOutOfRange => ("alpha", Problem::OutOfRange),
         ParamError::Unrepresentable { name, .. } => (name, Problem::Unrepresentable),
     };

@@ -3,6 +3,7 @@
 
 pub mod owned;
 pub mod safety;
+pub mod skid;
 pub mod staging;
 
 use crate::input::case::Case;

@@ -10,5 +10,6 @@ pub mod guideway;
 pub mod modal;
 pub mod profile;
 pub mod seismic;
+pub mod skid;
 pub mod vehicle;
 pub mod vehicle_integrator;

@@ -78,6 +78,7 @@ fn controller_error(e: maglev_core::ParamError) -> Error {
     use maglev_core::ParamError as P;
     let name = match e {
         P::NotFinite(n) | P::NotPositive(n) | P::Negative(n) => n,
+        P::TooLarge { name, .. } => name,
         P::AlphaOutOfRange => "alpha",
         P::Unrepresentable { name, .. } => name,
     };
