@@ -29,6 +29,10 @@
 // `x_ref_max`).
 #define MAGLEV_STATUS_REFERENCE_LIMITED 32
 
+// The most sub-steps `n_sub` a law accepts per update (`maglev_core::levitation::MAX_N_SUB`:
+// the control period budget, docs/c-api.md "Bounds"); more is `MAGLEV_ERROR_N_SUB`.
+#define MAGLEV_MAX_N_SUB 100000
+
 // Bytes of a `maglev_law_f32` or `maglev_law_q28` (either variant, every target).
 #define MAGLEV_LAW_SIZE 1024
 
@@ -103,7 +107,7 @@ enum maglev_error
   MAGLEV_ERROR_ALPHA = 8,
   // `dt_s`: finite, > 0.
   MAGLEV_ERROR_DT = 9,
-  // `n_sub`: ≥ 1.
+  // `n_sub`: in [1, `MAGLEV_MAX_N_SUB`] (the control period budget, docs/c-api.md).
   MAGLEV_ERROR_N_SUB = 10,
   // `interpolation`: `MAGLEV_INTERPOLATION_LINEAR` or `_PARABOLIC`.
   MAGLEV_ERROR_INTERPOLATION = 11,
@@ -142,8 +146,9 @@ enum maglev_error
   // The gap of a state initialisation (`gap_m`): finite, > 0, at most the law's range
   // (100·`h0_m`; Q4.28: 3.6·`h0_m`).
   MAGLEV_ERROR_GAP = 28,
-  // The parameters are valid, but a run-time coefficient derived from them is not
-  // representable in this type to 1e-4 (Q4.28 with many sub-steps or a short `dt_s`).
+  // The parameters are valid, but a run-time coefficient of the paper's law or the gap
+  // loop derived from them is not representable in this type to 1e-4 (Q4.28 with many
+  // sub-steps or a short `dt_s`).
   MAGLEV_ERROR_UNREPRESENTABLE = 29,
   // A number converted to Q4.28 was NaN or outside ±8 (the result saturated).
   MAGLEV_ERROR_RANGE = 30,
@@ -151,6 +156,16 @@ enum maglev_error
   MAGLEV_ERROR_NOT_INITIALIZED = 31,
   // A parameter the core refused under a name this API does not know (a newer core).
   MAGLEV_ERROR_OTHER = 32,
+  // `state.rate_Hz`·`dt_s`: at most 10000 control periods in one update (the state law's
+  // budget, `maglev_core::law::state::MAX_PERIODS`).
+  MAGLEV_ERROR_STATE_PERIODS = 33,
+  // A state-law coefficient per unit (its gains `kp·h0/Vb`, `kd·h0/Vb`, `ka·g/Vb`,
+  // `kc·i0/Vb`, `ki·h0·δ/Vb`, its observer's `2ω·δ`, `ω²·δ`) is outside the type's range
+  // (Q4.28: [−8, 8)) or below its resolution to 1e-4: use `float`, or smaller gains.
+  MAGLEV_ERROR_STATE_UNREPRESENTABLE = 34,
+  // A storage pointer is not aligned for its type (law and state: `MAGLEV_ALIGN`;
+  // measurement and output: 4).
+  MAGLEV_ERROR_ALIGNMENT = 35,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -365,7 +380,7 @@ int32_t maglev_law_init_f32(const struct maglev_params *params, struct maglev_la
 
 // Writes into `*out` the law's equilibrium state at gap `gap_m` (m): the coil at the static
 // load `p0_N`, every filter at rest there. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`,
-// `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the law's range:
+// `MAGLEV_ERROR_ALIGNMENT`, `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the law's range:
 // 100·`h0_m`, Q4.28 3.6·`h0_m`).
 //
 // # Safety
@@ -375,10 +390,10 @@ int32_t maglev_state_init_f32(const struct maglev_law_f32 *law,
                               struct maglev_state_f32 *out);
 
 // One step Δt = `dt_s` of the law: from `*state` to the measurement `*m` at the step's end;
-// writes the step's outputs to `*out`. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL` or
-// `MAGLEV_ERROR_NOT_INITIALIZED` (then nothing is written). Events of the step (collision,
-// saturation, overflow, a NaN gap) are not errors: they are `out->status` bits, and no NaN
-// or infinity is ever written. No allocation, no recursion, bounded time.
+// writes the step's outputs to `*out`. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`,
+// `MAGLEV_ERROR_ALIGNMENT` or `MAGLEV_ERROR_NOT_INITIALIZED` (then nothing is written).
+// Events of the step (collision, saturation, overflow, a NaN gap) are not errors: they are
+// `out->status` bits, and no NaN or infinity is ever written. No allocation, no recursion, bounded time.
 //
 // # Safety
 // Each pointer NULL or valid for its type; `state` and `out` do not overlap the others.
@@ -388,7 +403,7 @@ int32_t maglev_law_update_f32(const struct maglev_law_f32 *law,
                               struct maglev_output_f32 *out);
 
 // Copies the paper law's part of `*state` (per unit) into `*out`, for logs and tests.
-// Returns `MAGLEV_OK` or `MAGLEV_ERROR_NULL`.
+// Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL` or `MAGLEV_ERROR_ALIGNMENT`.
 //
 // # Safety
 // `state` NULL or a `maglev_state_f32`; `out` NULL or a writable `maglev_state_view_f32`.
@@ -417,7 +432,7 @@ int32_t maglev_law_init_q28(const struct maglev_params *params, struct maglev_la
 
 // Writes into `*out` the law's equilibrium state at gap `gap_m` (m): the coil at the static
 // load `p0_N`, every filter at rest there. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`,
-// `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the law's range:
+// `MAGLEV_ERROR_ALIGNMENT`, `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the law's range:
 // 100·`h0_m`, Q4.28 3.6·`h0_m`).
 //
 // # Safety
@@ -428,7 +443,7 @@ int32_t maglev_state_init_q28(const struct maglev_law_q28 *law,
 
 // One step Δt = `dt_s` of the law: from `*state` to the measurement `*m` at the step's end;
 // writes the step's outputs to `*out`. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL` or
-// `MAGLEV_ERROR_NOT_INITIALIZED` (then nothing is written). Events of the step (collision,
+// `MAGLEV_ERROR_ALIGNMENT`, `MAGLEV_ERROR_NOT_INITIALIZED` (then nothing is written). Events of the step (collision,
 // saturation, overflow, a NaN gap) are not errors: they are `out->status` bits, and results
 // saturate at the format's range (`MAGLEV_STATUS_OVERFLOW`). No allocation, no recursion, bounded time.
 //
@@ -440,7 +455,7 @@ int32_t maglev_law_update_q28(const struct maglev_law_q28 *law,
                               struct maglev_output_q28 *out);
 
 // Copies the paper law's part of `*state` (per unit) into `*out`, for logs and tests.
-// Returns `MAGLEV_OK` or `MAGLEV_ERROR_NULL`.
+// Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL` or `MAGLEV_ERROR_ALIGNMENT`.
 //
 // # Safety
 // `state` NULL or a `maglev_state_q28`; `out` NULL or a writable `maglev_state_view_q28`.

@@ -34,7 +34,7 @@ pub enum maglev_error {
     MAGLEV_ERROR_ALPHA = 8,
     /// `dt_s`: finite, > 0.
     MAGLEV_ERROR_DT = 9,
-    /// `n_sub`: ≥ 1.
+    /// `n_sub`: in [1, `MAGLEV_MAX_N_SUB`] (the control period budget, docs/c-api.md).
     MAGLEV_ERROR_N_SUB = 10,
     /// `interpolation`: `MAGLEV_INTERPOLATION_LINEAR` or `_PARABOLIC`.
     MAGLEV_ERROR_INTERPOLATION = 11,
@@ -73,8 +73,9 @@ pub enum maglev_error {
     /// The gap of a state initialisation (`gap_m`): finite, > 0, at most the law's range
     /// (100·`h0_m`; Q4.28: 3.6·`h0_m`).
     MAGLEV_ERROR_GAP = 28,
-    /// The parameters are valid, but a run-time coefficient derived from them is not
-    /// representable in this type to 1e-4 (Q4.28 with many sub-steps or a short `dt_s`).
+    /// The parameters are valid, but a run-time coefficient of the paper's law or the gap
+    /// loop derived from them is not representable in this type to 1e-4 (Q4.28 with many
+    /// sub-steps or a short `dt_s`).
     MAGLEV_ERROR_UNREPRESENTABLE = 29,
     /// A number converted to Q4.28 was NaN or outside ±8 (the result saturated).
     MAGLEV_ERROR_RANGE = 30,
@@ -82,12 +83,22 @@ pub enum maglev_error {
     MAGLEV_ERROR_NOT_INITIALIZED = 31,
     /// A parameter the core refused under a name this API does not know (a newer core).
     MAGLEV_ERROR_OTHER = 32,
+    /// `state.rate_Hz`·`dt_s`: at most 10000 control periods in one update (the state law's
+    /// budget, `maglev_core::law::state::MAX_PERIODS`).
+    MAGLEV_ERROR_STATE_PERIODS = 33,
+    /// A state-law coefficient per unit (its gains `kp·h0/Vb`, `kd·h0/Vb`, `ka·g/Vb`,
+    /// `kc·i0/Vb`, `ki·h0·δ/Vb`, its observer's `2ω·δ`, `ω²·δ`) is outside the type's range
+    /// (Q4.28: [−8, 8)) or below its resolution to 1e-4: use `float`, or smaller gains.
+    MAGLEV_ERROR_STATE_UNREPRESENTABLE = 34,
+    /// A storage pointer is not aligned for its type (law and state: `MAGLEV_ALIGN`;
+    /// measurement and output: 4).
+    MAGLEV_ERROR_ALIGNMENT = 35,
 }
 
 use maglev_error::*;
 
 /// Every code, in order of value.
-const ALL: [maglev_error; 33] = [
+const ALL: [maglev_error; 36] = [
     MAGLEV_OK,
     MAGLEV_ERROR_NULL,
     MAGLEV_ERROR_I0,
@@ -121,6 +132,9 @@ const ALL: [maglev_error; 33] = [
     MAGLEV_ERROR_RANGE,
     MAGLEV_ERROR_NOT_INITIALIZED,
     MAGLEV_ERROR_OTHER,
+    MAGLEV_ERROR_STATE_PERIODS,
+    MAGLEV_ERROR_STATE_UNREPRESENTABLE,
+    MAGLEV_ERROR_ALIGNMENT,
 ];
 
 impl maglev_error {
@@ -137,7 +151,7 @@ impl maglev_error {
             MAGLEV_ERROR_P0 => (c"p0_N", c"p0_N must be finite and > 0"),
             MAGLEV_ERROR_ALPHA => (c"alpha", c"alpha must lie in [0, 1]"),
             MAGLEV_ERROR_DT => (c"dt_s", c"dt_s must be finite and > 0"),
-            MAGLEV_ERROR_N_SUB => (c"n_sub", c"n_sub must be >= 1"),
+            MAGLEV_ERROR_N_SUB => (c"n_sub", c"n_sub must lie in [1, 100000] (MAGLEV_MAX_N_SUB)"),
             MAGLEV_ERROR_INTERPOLATION => (
                 c"interpolation",
                 c"interpolation must be MAGLEV_INTERPOLATION_LINEAR (0) or _PARABOLIC (1)",
@@ -203,7 +217,7 @@ impl maglev_error {
             ),
             MAGLEV_ERROR_UNREPRESENTABLE => (
                 c"(derived coefficient)",
-                c"a run-time coefficient is not representable in this type to 1e-4: use fewer sub-steps, a longer dt_s or f32",
+                c"a sub-step coefficient of the paper's law or the gap loop is not representable in this type to 1e-4: use fewer sub-steps, a longer dt_s or f32",
             ),
             MAGLEV_ERROR_RANGE => (
                 c"(value)",
@@ -217,6 +231,18 @@ impl maglev_error {
                 c"(parameter)",
                 c"the core refused a parameter this API does not name",
             ),
+            MAGLEV_ERROR_STATE_PERIODS => (
+                c"state.rate_Hz*dt_s",
+                c"state.rate_Hz * dt_s must be at most 10000 control periods per update",
+            ),
+            MAGLEV_ERROR_STATE_UNREPRESENTABLE => (
+                c"state",
+                c"a state-law gain or observer coefficient per unit is outside this type's range (Q4.28: [-8, 8)) or below its resolution: use float or smaller gains",
+            ),
+            MAGLEV_ERROR_ALIGNMENT => (
+                c"(pointer alignment)",
+                c"a storage pointer is misaligned: law and state need MAGLEV_ALIGN (8) bytes, measurement and output 4",
+            ),
         }
     }
 
@@ -225,6 +251,10 @@ impl maglev_error {
         usize::try_from(code).ok().and_then(|i| ALL.get(i).copied())
     }
 }
+
+/// The name under which the state law refuses more than `MAX_PERIODS` control periods per
+/// update (`maglev_core::law::state`; `tests/api.rs` checks the code it maps to).
+const PERIODS: &str = "10 000 − state rate_hz·dt (control periods per step)";
 
 /// The field of [`crate::maglev_params`] (or the gap argument) a core error names.
 pub fn from_param_error(e: &ParamError) -> maglev_error {
@@ -236,7 +266,14 @@ pub fn from_param_error(e: &ParamError) -> maglev_error {
         return MAGLEV_ERROR_GAP;
     }
     if let ParamError::Unrepresentable { .. } = e {
-        return MAGLEV_ERROR_UNREPRESENTABLE;
+        return if field.law == Some(maglev_core::LawName::State) {
+            MAGLEV_ERROR_STATE_UNREPRESENTABLE
+        } else {
+            MAGLEV_ERROR_UNREPRESENTABLE
+        };
+    }
+    if field.is(state::RATE) && field.name == PERIODS {
+        return MAGLEV_ERROR_STATE_PERIODS;
     }
     // Each core field ([`maglev_core::Field`], law and key) and the code of the C field
     // that holds it.

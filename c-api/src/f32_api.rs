@@ -95,7 +95,7 @@ pub unsafe extern "C" fn maglev_law_init_f32(
 
 /// Writes into `*out` the law's equilibrium state at gap `gap_m` (m): the coil at the static
 /// load `p0_N`, every filter at rest there. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`,
-/// `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the law's range:
+/// `MAGLEV_ERROR_ALIGNMENT`, `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the law's range:
 /// 100·`h0_m`, Q4.28 3.6·`h0_m`).
 ///
 /// # Safety
@@ -111,10 +111,10 @@ pub unsafe extern "C" fn maglev_state_init_f32(
 }
 
 /// One step Δt = `dt_s` of the law: from `*state` to the measurement `*m` at the step's end;
-/// writes the step's outputs to `*out`. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL` or
-/// `MAGLEV_ERROR_NOT_INITIALIZED` (then nothing is written). Events of the step (collision,
-/// saturation, overflow, a NaN gap) are not errors: they are `out->status` bits, and no NaN
-/// or infinity is ever written. No allocation, no recursion, bounded time.
+/// writes the step's outputs to `*out`. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`,
+/// `MAGLEV_ERROR_ALIGNMENT` or `MAGLEV_ERROR_NOT_INITIALIZED` (then nothing is written).
+/// Events of the step (collision, saturation, overflow, a NaN gap) are not errors: they are
+/// `out->status` bits, and no NaN or infinity is ever written. No allocation, no recursion, bounded time.
 ///
 /// # Safety
 /// Each pointer NULL or valid for its type; `state` and `out` do not overlap the others.
@@ -127,6 +127,9 @@ pub unsafe extern "C" fn maglev_law_update_f32(
 ) -> i32 {
     if law.is_null() || state.is_null() || m.is_null() || out.is_null() {
         return MAGLEV_ERROR_NULL as i32;
+    }
+    if !(law.is_aligned() && state.is_aligned() && m.is_aligned() && out.is_aligned()) {
+        return MAGLEV_ERROR_ALIGNMENT as i32;
     }
     // SAFETY: non-null and valid by the caller's contract.
     unsafe {
@@ -149,7 +152,7 @@ pub unsafe extern "C" fn maglev_law_update_f32(
 }
 
 /// Copies the paper law's part of `*state` (per unit) into `*out`, for logs and tests.
-/// Returns `MAGLEV_OK` or `MAGLEV_ERROR_NULL`.
+/// Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL` or `MAGLEV_ERROR_ALIGNMENT`.
 ///
 /// # Safety
 /// `state` NULL or a `maglev_state_f32`; `out` NULL or a writable `maglev_state_view_f32`.
@@ -160,6 +163,9 @@ pub unsafe extern "C" fn maglev_state_read_f32(
 ) -> i32 {
     if state.is_null() || out.is_null() {
         return MAGLEV_ERROR_NULL as i32;
+    }
+    if !state.is_aligned() || !out.is_aligned() {
+        return MAGLEV_ERROR_ALIGNMENT as i32;
     }
     // SAFETY: non-null and valid by the caller's contract.
     unsafe {

@@ -123,6 +123,9 @@ pub unsafe fn init<S: CScalar>(params: *const maglev_params, out: *mut u64) -> m
     if params.is_null() || out.is_null() {
         return MAGLEV_ERROR_NULL;
     }
+    if !params.is_aligned() || !out.is_aligned() {
+        return MAGLEV_ERROR_ALIGNMENT;
+    }
     // SAFETY: non-null and readable by the caller's contract; every bit pattern of its
     // fields is a valid f64/u32.
     let p = unsafe { params.read() };
@@ -169,6 +172,9 @@ pub unsafe fn get<'a, S: CScalar>(law: *const u64) -> Option<&'a Law<S>> {
 pub unsafe fn state_init<S: CScalar>(law: *const u64, gap_m: f64, out: *mut u64) -> maglev_error {
     if law.is_null() || out.is_null() {
         return MAGLEV_ERROR_NULL;
+    }
+    if !law.is_aligned() || !out.is_aligned() {
+        return MAGLEV_ERROR_ALIGNMENT;
     }
     // SAFETY: caller's contract.
     let Some(law) = (unsafe { get::<S>(law) }) else {

@@ -53,7 +53,12 @@ pub const MAGLEV_STATUS_INVALID_INPUT: u32 = 16;
 /// `x_ref_max`).
 pub const MAGLEV_STATUS_REFERENCE_LIMITED: u32 = 32;
 
+/// The most sub-steps `n_sub` a law accepts per update (`maglev_core::levitation::MAX_N_SUB`:
+/// the control period budget, docs/c-api.md "Bounds"); more is `MAGLEV_ERROR_N_SUB`.
+pub const MAGLEV_MAX_N_SUB: u32 = 100_000;
+
 const _: () = {
+    assert!(MAGLEV_MAX_N_SUB == maglev_core::levitation::MAX_N_SUB);
     assert!(MAGLEV_STATUS_COLLISION == Status::COLLISION.0 as u32);
     assert!(MAGLEV_STATUS_VOLTAGE_SATURATED == Status::VOLTAGE_SATURATED.0 as u32);
     assert!(MAGLEV_STATUS_CURRENT_CLAMPED == Status::CURRENT_CLAMPED.0 as u32);

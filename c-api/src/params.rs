@@ -228,6 +228,9 @@ pub unsafe extern "C" fn maglev_params_paper(p0_N: f64, dt_s: f64, out: *mut mag
     if out.is_null() {
         return MAGLEV_ERROR_NULL as i32;
     }
+    if !out.is_aligned() {
+        return MAGLEV_ERROR_ALIGNMENT as i32;
+    }
     // SAFETY: non-null, and the caller provides a writable maglev_params.
     unsafe { out.write(maglev_params::paper(p0_N, dt_s)) };
     MAGLEV_OK as i32

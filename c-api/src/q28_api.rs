@@ -96,7 +96,7 @@ pub unsafe extern "C" fn maglev_law_init_q28(
 
 /// Writes into `*out` the law's equilibrium state at gap `gap_m` (m): the coil at the static
 /// load `p0_N`, every filter at rest there. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`,
-/// `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the law's range:
+/// `MAGLEV_ERROR_ALIGNMENT`, `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (NaN, ≤ 0 or beyond the law's range:
 /// 100·`h0_m`, Q4.28 3.6·`h0_m`).
 ///
 /// # Safety
@@ -113,7 +113,7 @@ pub unsafe extern "C" fn maglev_state_init_q28(
 
 /// One step Δt = `dt_s` of the law: from `*state` to the measurement `*m` at the step's end;
 /// writes the step's outputs to `*out`. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL` or
-/// `MAGLEV_ERROR_NOT_INITIALIZED` (then nothing is written). Events of the step (collision,
+/// `MAGLEV_ERROR_ALIGNMENT`, `MAGLEV_ERROR_NOT_INITIALIZED` (then nothing is written). Events of the step (collision,
 /// saturation, overflow, a NaN gap) are not errors: they are `out->status` bits, and results
 /// saturate at the format's range (`MAGLEV_STATUS_OVERFLOW`). No allocation, no recursion, bounded time.
 ///
@@ -128,6 +128,9 @@ pub unsafe extern "C" fn maglev_law_update_q28(
 ) -> i32 {
     if law.is_null() || state.is_null() || m.is_null() || out.is_null() {
         return MAGLEV_ERROR_NULL as i32;
+    }
+    if !(law.is_aligned() && state.is_aligned() && m.is_aligned() && out.is_aligned()) {
+        return MAGLEV_ERROR_ALIGNMENT as i32;
     }
     // SAFETY: non-null and valid by the caller's contract.
     unsafe {
@@ -150,7 +153,7 @@ pub unsafe extern "C" fn maglev_law_update_q28(
 }
 
 /// Copies the paper law's part of `*state` (per unit) into `*out`, for logs and tests.
-/// Returns `MAGLEV_OK` or `MAGLEV_ERROR_NULL`.
+/// Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL` or `MAGLEV_ERROR_ALIGNMENT`.
 ///
 /// # Safety
 /// `state` NULL or a `maglev_state_q28`; `out` NULL or a writable `maglev_state_view_q28`.
@@ -161,6 +164,9 @@ pub unsafe extern "C" fn maglev_state_read_q28(
 ) -> i32 {
     if state.is_null() || out.is_null() {
         return MAGLEV_ERROR_NULL as i32;
+    }
+    if !state.is_aligned() || !out.is_aligned() {
+        return MAGLEV_ERROR_ALIGNMENT as i32;
     }
     // SAFETY: non-null and valid by the caller's contract.
     unsafe {
@@ -185,6 +191,9 @@ pub unsafe extern "C" fn maglev_state_read_q28(
 pub unsafe extern "C" fn maglev_q28_from_f64(x: f64, out: *mut i32) -> i32 {
     if out.is_null() {
         return MAGLEV_ERROR_NULL as i32;
+    }
+    if !out.is_aligned() {
+        return MAGLEV_ERROR_ALIGNMENT as i32;
     }
     let mut saturated = false;
     let q = I4F28::from_f64(x, &mut saturated);

@@ -163,8 +163,8 @@ fn every_law_initialises_and_q28_refuses_what_it_cannot_carry() {
     p.law = MAGLEV_LAW_GAP_LOOP;
     assert_eq!(init_both(&p), (0, 0));
     set_state(&mut p, |_| ());
-    // kp·h0/(R0·i0) = 12 is beyond Q4.28's ±8: MAGLEV_ERROR_UNREPRESENTABLE.
-    assert_eq!(init_both(&p), (0, 29));
+    // kp·h0/(R0·i0) = 12 is beyond Q4.28's ±8: MAGLEV_ERROR_STATE_UNREPRESENTABLE.
+    assert_eq!(init_both(&p), (0, 34));
     let mut p = paper();
     p.scheme = MAGLEV_SCHEME_ACCURATE;
     p.n_sub = 10;
@@ -175,13 +175,13 @@ fn every_law_initialises_and_q28_refuses_what_it_cannot_carry() {
 
 #[test]
 fn codes_have_distinct_names_and_unknown_codes_say_so() {
-    let names: Vec<_> = (0..=32).map(|c| text(maglev_error_field_name(c))).collect();
+    let names: Vec<_> = (0..=35).map(|c| text(maglev_error_field_name(c))).collect();
     let mut sorted = names.clone();
     sorted.sort();
     sorted.dedup();
     assert_eq!(sorted.len(), names.len(), "{names:?}");
     assert_eq!(names[0], "none");
-    for c in [-1, 33, i32::MIN, i32::MAX] {
+    for c in [-1, 36, i32::MIN, i32::MAX] {
         assert_eq!(text(maglev_error_field_name(c)), "unknown");
         assert_eq!(text(maglev_error_message(c)), "unknown error code");
     }
@@ -348,7 +348,7 @@ fn hostile_inputs_never_panic_nor_write_nan() {
                 maglev_law_init_q28(&p, &mut *lq),
             )
         };
-        assert!((0..=32).contains(&rf) && (0..=32).contains(&rq));
+        assert!((0..=35).contains(&rf) && (0..=35).contains(&rq));
         let gap0 = if rng.next() % 4 == 0 {
             rng.hostile()
         } else {

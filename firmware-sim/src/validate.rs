@@ -100,7 +100,10 @@ pub fn law_fault(e: ParamError, channel: Option<u8>) -> ConfigFault {
     use ConfigKey::*;
     let problem = match e {
         ParamError::NotFinite(_) => Problem::NotFinite,
-        ParamError::NotPositive(_) | ParamError::Negative(_) | ParamError::AlphaOutOfRange => {
+        ParamError::NotPositive(_)
+        | ParamError::Negative(_)
+        | ParamError::TooLarge { .. }
+        | ParamError::AlphaOutOfRange => {
             Problem::OutOfRange
         }
         ParamError::Unrepresentable { .. } => Problem::Unrepresentable,

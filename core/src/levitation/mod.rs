@@ -164,6 +164,15 @@ const fn one() -> f64 {
 /// Standard gravity used for the paper's loads (m/s²).
 pub const GRAVITY: f64 = 9.81;
 
+/// The most internal-loop sub-steps one update may run (`n_sub`), from the control period
+/// budget: an update must fit in its control period, and the paper's period is Δt = 1 ms.
+/// One sub-step of Eq. 14 takes 10–25 ns on a desktop host (docs/numerics.md; `n_sub =
+/// 4294967295` took 49 s), the fastest target this core runs on, so 10⁵ sub-steps fill that
+/// millisecond there; on a Cortex-M4 (about 150 instructions per f32 sub-step,
+/// docs/c-api.md) the same millisecond holds about 10³. Above the bound no target keeps a
+/// 1 kHz loop: a firmware's update would never return in time (docs/c-api.md, "Bounds").
+pub const MAX_N_SUB: u32 = 100_000;
+
 impl Params {
     /// The paper's §4.2 values (i0 = 43 A, h0 = 0.01 m, R0 = 1 Ω, KP = 0.01, KI = 6.0) for a
     /// magnet carrying `p0` newtons, α = 0.5, one sub-step, linear interpolation, no
@@ -244,6 +253,12 @@ impl Params {
         }
         if self.n_sub == 0 {
             return Err(ParamError::NotPositive(fields::N_SUB));
+        }
+        if self.n_sub > MAX_N_SUB {
+            return Err(ParamError::TooLarge {
+                field: fields::N_SUB,
+                max: MAX_N_SUB as f64,
+            });
         }
         if self.v_max.is_nan() {
             return Err(ParamError::NotFinite(fields::V_MAX));
@@ -495,6 +510,13 @@ pub enum ParamError {
     Negative(Field),
     /// α outside [0, 1].
     AlphaOutOfRange,
+    /// Above its upper bound `max` (e.g. [`MAX_N_SUB`]).
+    TooLarge {
+        /// The parameter.
+        field: Field,
+        /// Its bound.
+        max: f64,
+    },
     /// The run-time type cannot represent a coefficient accurately enough.
     Unrepresentable {
         /// The coefficient (a parameter, the gap, or one derived from several).
@@ -511,6 +533,7 @@ impl ParamError {
         match *self {
             ParamError::NotFinite(f) | ParamError::NotPositive(f) | ParamError::Negative(f) => f,
             ParamError::AlphaOutOfRange => fields::ALPHA,
+            ParamError::TooLarge { field, .. } => field,
             ParamError::Unrepresentable { field, .. } => field,
         }
     }
@@ -551,6 +574,21 @@ impl core::fmt::Display for ParamError {
             ParamError::NotPositive(n) => write!(f, "parameter {n} must be positive"),
             ParamError::Negative(n) => write!(f, "parameter {n} must not be negative"),
             ParamError::AlphaOutOfRange => write!(f, "parameter alpha must lie in [0, 1]"),
+            ParamError::TooLarge { field, max } => {
+                write!(f, "parameter {field} must be at most {max}")
+            }
+            ParamError::Unrepresentable {
+                field: name,
+                value,
+                relative_error,
+                scalar,
+            } if name.law == Some(crate::law::LawName::State) => write!(
+                f,
+                "{scalar} cannot represent the state law's coefficient {name} = {value:e} \
+                 (relative error {relative_error:.1e}): a gain or filter coefficient per unit \
+                 outside the type's range or below its resolution; use a wider type or \
+                 gains of smaller per-unit size"
+            ),
             ParamError::Unrepresentable {
                 field: name,
                 value,

@@ -20,6 +20,9 @@ use crate::probes::{Recorder, StepView, Wheels};
 use crate::Result;
 use serde::Serialize;
 
+/// The skid contact's figures in the report ([`skid::SkidFigures`]).
+pub mod skid;
+
 /// The levitation and guidance gaps' limit (m): a magnet touches its rail at a gap of zero
 /// (docs/model.md §2; `collision_steps` counts such steps).
 pub const GAP_LIMIT: f64 = 0.0;
@@ -76,6 +79,18 @@ impl Figure {
             pass: None,
             source: "",
         }
+    }
+
+    /// A figure judged `≤ limit` (none: not judged) with its source.
+    pub(super) fn judged(
+        value: f64,
+        unit: &'static str,
+        at: Option<String>,
+        t: Option<f64>,
+        limit: Option<f64>,
+        source: &'static str,
+    ) -> Self {
+        Figure::new(value, unit, at, t).limit(limit, source, le)
     }
 
     /// The figure judged against `limit` (none: not judged) by `within(value, limit)`.
@@ -148,6 +163,10 @@ pub struct MaglevFigures {
     pub saturated_longest: Option<Figure>,
     /// Every levitation magnet's smallest gap, along the train.
     pub levitation_gap_per_magnet: Vec<MagnetGap>,
+    /// The magnets' landings on their skids (docs/contact.md); set by the run
+    /// ([`SafetyReport::with_skids`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub skid_contact: Option<skid::SkidFigures>,
 }
 
 /// Q/P, not computed.
@@ -190,6 +209,9 @@ impl SafetyReport {
         if let Some(m) = &self.maglev {
             all.push(("maglev.levitation_gap_min", &m.levitation_gap_min));
             all.push(("maglev.collision_steps", &m.collision_steps));
+            if let Some(s) = &m.skid_contact {
+                all.push(("maglev.skid_contact.contact_steps", &s.contact_steps));
+            }
             for (name, f) in [
                 ("maglev.guidance_gap_min", &m.guidance_gap_min),
                 ("maglev.current_peak", &m.current_peak),
@@ -591,7 +613,14 @@ impl Safety {
                     t_s: m.lev.t,
                 })
                 .collect(),
+            skid_contact: None,
         }
+    }
+
+    /// The name of every magnet wheel (`wheel{N}`, N its node along the train), in the
+    /// order of the train's magnet wheels.
+    pub fn magnet_wheel_names(&self) -> Vec<String> {
+        self.magnets.iter().map(|m| wheel(m.node)).collect()
     }
 
     fn wheel_rail_figures(&self) -> WheelRailFigures {

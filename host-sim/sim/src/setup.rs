@@ -150,6 +150,7 @@ impl Passage {
             max_iterations: case.max_iterations,
             midspan_x: midspans[0],
             midspans,
+            skid: case.skid,
         };
         let guideway = AnyGuideway::new(case)?;
         Ok(Passage {

@@ -100,6 +100,8 @@ pub struct Settings {
     pub midspan_x: f64,
     /// X of the middle of every span (the `span{K}.midspan` probes).
     pub midspans: Vec<f64>,
+    /// The magnets' skid contact with their rails (`[contact]`, docs/contact.md).
+    pub skid: crate::physics::skid::Skid,
 }
 
 /// The range `(min, max)` (m) of each magnet's gap over a run, per wheel: levitation,
@@ -148,7 +150,8 @@ pub struct Outcome {
     pub max_iterations: u32,
     /// Steps whose iterations hit `max_iterations` without converging.
     pub unconverged_steps: usize,
-    /// Steps in which some magnet's gap was at or below zero.
+    /// Steps in which some magnet's gap was at or below zero or some magnet was on its skid
+    /// (docs/contact.md).
     pub collision_steps: usize,
     /// The end time (s) of the first such step.
     pub first_collision_t: Option<f64>,
@@ -164,6 +167,8 @@ pub struct Outcome {
     pub contact_loss_steps: usize,
     /// Each contact's force range `(min, max)` (N, compressive) over the run, clamped.
     pub contact_ranges: Vec<(f64, f64)>,
+    /// Every magnet's skid contact over the run (docs/contact.md).
+    pub skids: crate::physics::skid::SkidOutcome,
     /// The irregularity the run used, `[x, r_y, r_z]` (m) at every position a wheel occupied
     /// at a step, sorted by x, duplicates removed (empty for a moving force).
     pub profile: Vec<[f64; 3]>,

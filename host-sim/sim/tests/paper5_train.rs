@@ -44,6 +44,7 @@ fn settings(
         max_iterations: 50,
         midspan_x: midspans.first().copied().unwrap_or(0.0),
         midspans,
+        skid: maglev_sim::physics::skid::Skid::DEFAULT,
     }
 }
 

@@ -39,7 +39,7 @@ pub struct Args {
 pub fn strict_violation(outcome: &Outcome, h0: f64) -> Option<String> {
     if outcome.collision_steps > 0 {
         return Some(format!(
-            "{} step(s) with a collision (a gap ≤ 0)",
+            "{} step(s) with a collision (a magnet on its skid, docs/contact.md)",
             outcome.collision_steps
         ));
     }
@@ -80,7 +80,7 @@ pub fn warn(outcome: &Outcome) {
     }
     if outcome.collision_steps > 0 {
         eprintln!(
-            "maglev: warning: {} step(s) with a collision (some magnet's gap ≤ 0), the first at t = {} s; the run went on with the gap clamped in the law, so the histories after it are not physical",
+            "maglev: warning: {} step(s) with a collision (some magnet on its skid: levitation failed), the first at t = {} s; the magnets landed on their skids and slid (docs/contact.md)",
             outcome.collision_steps,
             outcome.first_collision_t.unwrap_or(f64::NAN)
         );
@@ -175,7 +175,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let columns = Columns::read(&out)?;
     let mut summary = Summary::new(&args.scenario, &case, &outcome, wall, &columns);
     summary.ground = ground;
-    summary.safety = safety.report();
+    let skids = crate::output::skid::figures(&outcome.skids, case.dt, &safety.magnet_wheel_names());
+    summary.safety = safety.report().map(|r| r.with_skids(skids));
     write_run(&out, &outcome, &summary, &args.sets, &columns)?;
     out.finish()?;
     eprintln!(

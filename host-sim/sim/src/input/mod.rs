@@ -17,6 +17,35 @@ use std::path::Path;
 /// The largest input file read: 64 MiB.
 pub const MAX_INPUT_BYTES: u64 = 64 << 20;
 
+/// The largest TOML text parsed (a scenario, a sweep spec): 4 MiB. TOML is parsed whole into a
+/// tree before anything reads it, and the tree costs far more than its text: a value of two
+/// bytes (`1,` in an array) takes a tree node of tens of bytes and a share of its array's
+/// spare capacity, and the overrides' pass copies the tree once more: a 60 MB array of
+/// integers took 4.5 GB of RSS and 65 s (docs/scenarios.md, "Input size"). At the measured
+/// worst, [`TOML_COST`] bytes per byte of text, 4 MiB costs about 330 MB; the largest
+/// bundled scenario is 2.7 kB.
+pub const MAX_TOML_BYTES: usize = 4 << 20;
+
+/// Peak memory per byte of TOML text, the worst measured (docs/scenarios.md, "Input size").
+pub const TOML_COST: usize = 80;
+
+/// `text` (the TOML of `what`) if it is at most [`MAX_TOML_BYTES`], checked before it is
+/// parsed.
+pub fn toml_within_cap<'a>(what: &str, text: &'a str) -> Result<&'a str> {
+    if text.len() <= MAX_TOML_BYTES {
+        return Ok(text);
+    }
+    Err(Error::invalid(
+        what,
+        format!(
+            "has {} bytes of TOML, more than the {} MiB a TOML input may have (parsing costs \
+             up to {TOML_COST}× the text in memory)",
+            text.len(),
+            MAX_TOML_BYTES >> 20
+        ),
+    ))
+}
+
 /// The error for an input larger than the cap.
 fn too_large() -> std::io::Error {
     std::io::Error::new(

@@ -571,6 +571,21 @@ pub struct Scenario {
     pub ground: Option<GroundSection>,
     /// Ground motion and settlement at the viaduct's piers or the spans' bearings (`[support]`, docs/seismic.md).
     pub support: Option<crate::input::support::SupportSection>,
+    /// The magnets' skid contact with their rails (`[contact]`, docs/contact.md).
+    pub contact: Option<ContactSection>,
+}
+
+/// `[contact]`: where and how a magnet lands on its rail (docs/contact.md); every key has a
+/// default (`crate::physics::skid::Skid::DEFAULT`).
+#[derive(Deserialize, Serialize, Debug, Clone, Default)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct ContactSection {
+    pub skid_gap_m: Option<f64>,
+    pub stiffness_MN_per_m: Option<f64>,
+    pub damping_kN_s_per_m: Option<f64>,
+    pub friction: Option<f64>,
+    pub slip_regularisation_m_per_s: Option<f64>,
 }
 
 /// `[output]`: what a run records.
@@ -612,6 +627,7 @@ pub fn load(name_or_path: &str, sets: &[String]) -> Result<Scenario> {
 
 /// Parses scenario text with overrides.
 pub fn parse(text: &str, name: &str, sets: &[String]) -> Result<Scenario> {
+    let text = crate::input::toml_within_cap(&format!("scenario {name}"), text)?;
     let mut table: toml::Table = toml::from_str(text)
         .map_err(|e| Error::parse(format!("scenario {name}"), one_line(&e.to_string())))?;
     let base = table.clone();

@@ -12,5 +12,6 @@ pub mod profile;
 pub mod rail;
 pub mod seismic;
 pub mod train;
+pub mod skid;
 pub mod vehicle;
 pub mod vehicle_integrator;

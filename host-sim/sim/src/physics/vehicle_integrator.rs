@@ -240,6 +240,12 @@ impl VehicleIntegrator {
         )
     }
 
+    /// `∂u_i/∂f_j` of a step (m/N): the displacement of DOF `i` at t + dt per unit load on
+    /// DOF `j` (`Keff⁻¹`, the same for every step).
+    pub fn flexibility(&self, i: usize, j: usize) -> f64 {
+        self.flex[j * self.free.len() + i]
+    }
+
     /// Solves the step's displacement for the load `f` at t + dt, from the committed state:
     /// the load-free response (once per step) plus `Keff⁻¹ f` over the non-zero entries of
     /// `f` (module docs). No allocation.

@@ -395,6 +395,7 @@ mod tests {
                 max_iterations: 10,
                 midspan_x: 0.0,
                 midspans: Vec::new(),
+                skid: crate::physics::skid::Skid::DEFAULT,
             };
             let nw = train.wheels.len();
             let gaps0 = vec![(h0, 0.0); nw];

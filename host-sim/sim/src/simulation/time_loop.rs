@@ -19,6 +19,7 @@ use super::{
     Profiles, Settings, WheelGaps,
 };
 use crate::physics::guideway::{Guideway, PointLoad};
+use crate::physics::skid::{Skids, WheelView};
 use crate::physics::train::Train;
 use crate::physics::vehicle::magnet_gaps;
 use crate::probes::{written, Recorder, StepView, Wheels};
@@ -158,6 +159,8 @@ struct TimeLoop<'a, G, M: ?Sized> {
     it: IterationState,
     dofs: ProbeDofs,
     tally: Tally,
+    /// The magnets' skids (docs/contact.md).
+    skids: Skids,
 }
 
 impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
@@ -228,6 +231,7 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
             first_collision_t: None,
         };
         Ok(TimeLoop {
+            skids: Skids::new(s.skid, v.wheels.len()),
             at: Kinematics::at_rest(v, riders.forces, profiles, steps),
             it: IterationState::at_rest(v, riders.forces, gaps_prev, contact_p),
             guideway,
@@ -301,6 +305,7 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
             &it.accels,
             &mut it.forces,
         )?;
+        self.skid_forces();
         self.magnet_loads();
         // The car sees the rail's motion of this iterate (and the lift-off correction of the
         // last one); its contact forces follow from its solution.
@@ -319,11 +324,34 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
         Ok(lost)
     }
 
-    /// The cars' wheel loads and the guideway's magnet loads from the magnets' forces.
+    /// Every magnet's skid force from the current gaps (docs/contact.md).
+    fn skid_forces(&mut self) {
+        let (it, veh, s) = (&self.it, &self.veh, self.s);
+        self.skids.begin_pass();
+        let sign = s.geometry.levitation_sign();
+        for (i, w) in self.train.wheels.iter().enumerate() {
+            let view = WheelView {
+                prev: it.gaps_prev[i],
+                now: it.current[i],
+                h0: self.h0,
+                sign,
+                guided: w.dof_y.is_some(),
+            };
+            let flex = || {
+                let y = w.dof_y.map_or(0.0, |y| veh.flexibility(w.car, y));
+                (veh.flexibility(w.car, w.dof_z), y)
+            };
+            let touching = self.skids.wheel(i, &view, s.speed, s.dt, flex);
+            self.skids.touched(touching);
+        }
+    }
+
+    /// The cars' wheel loads and the guideway's magnet loads from the magnets' forces and the
+    /// skids'.
     fn magnet_loads(&mut self) {
         let it = &mut self.it;
         for (i, w) in self.train.wheels.iter().enumerate() {
-            let (gz, gy) = it.forces[i];
+            let (gz, gy) = self.skids.add(i, it.forces[i]);
             it.f[i] = (gz - self.train.p0[i], gy);
             it.loads[i] = PointLoad {
                 x: self.at.xs[i],
@@ -428,7 +456,8 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
         self.veh.commit();
         let (buf, tally) = (&mut self.it, &mut self.tally);
         buf.gaps_prev.copy_from_slice(&buf.gaps_used);
-        let mut collision = false;
+        self.skids.commit(t);
+        let mut collision = self.skids.touching();
         for (r, &g) in tally.gap_ranges.iter_mut().zip(&buf.gaps_used) {
             for (r, h) in r.iter_mut().zip(magnet_gaps(g, self.h0)) {
                 *r = (r.0.min(h), r.1.max(h));
@@ -518,6 +547,7 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
             coil_ranges: t.coil_ranges,
             contact_loss_steps: t.contact_loss_steps,
             contact_ranges: t.contact_ranges,
+            skids: self.skids.outcome(),
             profile,
         }
     }

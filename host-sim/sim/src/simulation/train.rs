@@ -181,6 +181,11 @@ impl TrainState {
         }
     }
 
+    /// The step's flexibility `∂u/∂f` (m/N) of car `car`'s DOF `dof` to a load on itself.
+    pub fn flexibility(&self, car: usize, dof: usize) -> f64 {
+        self.cars[car].newmark.flexibility(dof, dof)
+    }
+
     /// Accepts every car's trial state and gathers the train-wide vectors.
     pub fn commit(&mut self) {
         for (c, &o) in self.cars.iter_mut().zip(&self.offsets) {

@@ -112,7 +112,7 @@ fn run_uncaught(spec: &Spec, run: &Run) -> Record {
             let (status, error) = if collisions > 0 {
                 (
                     Status::Collided,
-                    format!("{collisions} step(s) with a collision (a gap ≤ 0)"),
+                    format!("{collisions} step(s) with a collision (a magnet on its skid)"),
                 )
             } else if !failing.is_empty() {
                 (

@@ -203,6 +203,7 @@ impl Spec {
 
     /// Parses and checks spec text.
     pub fn parse(text: &str) -> Result<Self> {
+        let text = crate::input::toml_within_cap("sweep spec", text)?;
         let file: File = toml::from_str(text).map_err(|e| {
             Error::parse(
                 "sweep spec",

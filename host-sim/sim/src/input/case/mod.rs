@@ -24,6 +24,7 @@ mod bridge;
 mod budget;
 mod changes;
 mod checks;
+mod contact;
 mod controller;
 mod probes;
 mod record;
@@ -118,6 +119,9 @@ pub struct Case {
     /// ([`Case::record`]).
     #[serde(skip)]
     pub support: Option<SupportMotion>,
+    /// The magnets' skid contact (`[contact]`, docs/contact.md), in SI.
+    #[serde(rename = "contact")]
+    pub skid: crate::physics::skid::Skid,
 }
 
 impl Case {
@@ -229,6 +233,7 @@ impl Case {
             .as_ref()
             .filter(|i| i.enabled)
             .map(|i| i.seed);
+        let skid = contact::skid(sc.contact.as_ref(), controller.as_ref().map(|p| p.h0))?;
         let probes = probes::probes(&sc, &bridge, &train)?;
         probes.check_ground(ground.as_ref().map(Vec::len))?;
         Ok(Case {
@@ -252,6 +257,7 @@ impl Case {
             soil,
             ground,
             support,
+            skid,
             scenario: sc,
         })
     }
