@@ -129,7 +129,9 @@ fn expected<S: Scalar>(
     let law: Law<S> = match lp.compile() {
         Ok(law) => law,
         // MAGLEV_ERROR_STATE_UNREPRESENTABLE in include/maglev.h: a state-law coefficient.
-        Err(ParamError::Unrepresentable { name: n, .. }) if n.starts_with("state ") => {
+        Err(ParamError::Unrepresentable { field, .. })
+            if field.law == Some(maglev_core::LawName::State) =>
+        {
             return format!("{name} {tag} init 34\n")
         }
         // MAGLEV_ERROR_UNREPRESENTABLE in include/maglev.h.

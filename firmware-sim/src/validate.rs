@@ -103,9 +103,7 @@ pub fn law_fault(e: ParamError, channel: Option<u8>) -> ConfigFault {
         ParamError::NotPositive(_)
         | ParamError::Negative(_)
         | ParamError::TooLarge { .. }
-        | ParamError::AlphaOutOfRange => {
-            Problem::OutOfRange
-        }
+        | ParamError::AlphaOutOfRange => Problem::OutOfRange,
         ParamError::Unrepresentable { .. } => Problem::Unrepresentable,
     };
     let field = e.field();

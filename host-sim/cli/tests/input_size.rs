@@ -9,7 +9,7 @@ fn a_60_mb_scenario_is_refused_in_one_line_within_2_gib() {
     let dir = std::env::temp_dir().join(format!("maglev-input-size-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("big.toml");
-    let base = include_str!("../scenarios/paper-4.2.toml");
+    let base = include_str!("../../sim/scenarios/paper-4.2.toml");
     let n = 60_000_000 / 2;
     let mut text = String::with_capacity(2 * n + base.len() + 16);
     text.push_str("zz = [");

@@ -25,6 +25,10 @@ const DT: f64 = 1e-5;
 struct CoilOff;
 
 impl Magnets for CoilOff {
+    fn start(&mut self, _: &maglev_sim::simulation::Start<'_>) -> Result<()> {
+        Ok(())
+    }
+
     fn forces(
         &mut self,
         _: u32,
@@ -100,7 +104,7 @@ fn drop(skid: Skid, speed: f64, t_end: f64) -> (Outcome, Vec<f64>) {
         &s,
         &mut CoilOff,
         &mut rec,
-        |_| {},
+        &mut (),
     )
     .unwrap();
     (o, rec.0)

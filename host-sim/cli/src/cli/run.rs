@@ -175,7 +175,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let columns = Columns::read(&out)?;
     let mut summary = Summary::new(&args.scenario, &case, &outcome, wall, &columns);
     summary.ground = ground;
-    let skids = crate::output::skid::figures(&outcome.skids, case.dt, &safety.magnet_wheel_names());
+    let skids =
+        maglev_sim::safety::skid::figures(&outcome.skids, case.dt, &safety.magnet_wheel_names());
     summary.safety = safety.report().map(|r| r.with_skids(skids));
     write_run(&out, &outcome, &summary, &args.sets, &columns)?;
     out.finish()?;

@@ -11,7 +11,7 @@ pub mod modal;
 pub mod profile;
 pub mod rail;
 pub mod seismic;
-pub mod train;
 pub mod skid;
+pub mod train;
 pub mod vehicle;
 pub mod vehicle_integrator;
