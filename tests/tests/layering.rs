@@ -26,7 +26,7 @@ const CRATES: [Crate; 3] = [
             ("simulation", &["simulation"]),
             ("ground", &["ground"]),
             ("input", &["input"]),
-            ("passage", &["setup", "safety"]),
+            ("passage", &["setup", "safety", "running_safety"]),
             ("studies", &["studies"]),
             ("facade", &["prelude"]),
         ],

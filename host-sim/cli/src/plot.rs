@@ -20,7 +20,7 @@
 //! axis label.
 //!
 //! ```
-//! use maglev_sim::plot::{self, Plot, Series};
+//! use maglev::plot::{self, Plot, Series};
 //! let t = vec![0.0, 0.1, 0.2];
 //! let svg = plot::lines("a title", "t (s)", "z (mm)", &[Series::new("fe", t, vec![0.0, -1.5, 0.3])])?;
 //! assert!(svg.starts_with("<svg"));

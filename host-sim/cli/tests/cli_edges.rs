@@ -240,7 +240,7 @@ fn a_record_of_step_1e_300_is_refused_under_run_and_hil() {
         args.extend(["--out", out.to_str().unwrap()]);
         let e = refused(&maglev(&args));
         assert!(
-            e.contains("support.record.dt: must be within [0.0001, 0.1] s"),
+            e.contains("support.record.dt: must be within [0.000001, 0.1] s"),
             "{cmd}: {e}"
         );
         assert!(!out.exists());

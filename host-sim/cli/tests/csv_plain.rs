@@ -223,7 +223,7 @@ fn every_csv_a_command_writes_is_plain() {
         check(&args.join(" "), &stdout(&maglev(args)));
     }
     // The report's CSVs, as `maglev report paper-5 --out docs/paper5` wrote them.
-    let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/paper5");
+    let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/paper5");
     for f in ["bands.csv", "ground-levels.csv", "ground-overall.csv"] {
         check_file(&docs.join(f));
     }

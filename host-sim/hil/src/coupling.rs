@@ -137,7 +137,7 @@ impl<'a> FirmwareMagnets<'a> {
             }
         }
         check_fault_channels(&hs.sensor_faults, channels.len())?;
-        let state_law = matches!(s.law, maglev_core::LawKind::State(_));
+        let state_law = s.law.sensors().accel;
         super::step_frame::check(ticks, channels.len(), state_law.then_some(v.p0.len()))?;
         let cfg = Config {
             scalar: hs.scalar,

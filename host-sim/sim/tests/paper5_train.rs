@@ -352,7 +352,6 @@ fn two_car_trains_cross_three_viaduct_spans() {
         "pier2.base.az",
         "pier3.base.az",
         "span2.midspan.z",
-        "wheel1.force_z",
         "wheel9.z",
     ];
     // Leading node from x = 0 to beyond the last pier: 90 m + the train's 50 m.

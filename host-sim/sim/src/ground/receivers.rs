@@ -54,15 +54,6 @@ impl BaseForces {
             forces: vec![Vec::new(); piers],
         }
     }
-
-    /// The recorder a run of `case` needs: every pier's base force when the case has a
-    /// viaduct and ground receivers (`maglev run`, the Python binding), else `None`.
-    pub fn for_case(case: &crate::input::case::Case) -> Option<Self> {
-        let v = case.viaduct.as_ref()?;
-        case.ground.as_ref()?;
-        let f = &v.foundation;
-        Some(BaseForces::new(v.spans + 1, f.stiffness[2], f.damping[2]))
-    }
 }
 
 impl Recorder for BaseForces {

@@ -40,7 +40,7 @@ pub struct GroundRecord {
 
 /// The sample steps a record may have (s): `maglev accelerogram`'s limits (Nyquist above 5 Hz,
 /// at most 10 kHz), for a record read from a file too.
-pub const DT_LIMITS_S: (f64, f64) = (1e-4, 0.1);
+pub const DT_LIMITS_S: (f64, f64) = (1e-6, 0.1);
 
 /// How close to rest a record read from a file must end: its last sample and its final
 /// velocity within this fraction of their peaks ([`GroundRecord::check_at_rest`]).
@@ -602,7 +602,7 @@ mod tests {
                 .unwrap_err()
                 .to_string();
             assert!(
-                e.contains("support.record.dt: must be within [0.0001, 0.1] s")
+                e.contains("support.record.dt: must be within [0.000001, 0.1] s")
                     && !e.contains('\n'),
                 "{dt}: {e}"
             );
