@@ -34,7 +34,7 @@ const CRATES: [Crate; 3] = [
     Crate {
         src: "host-sim/hil/src",
         layers: &[
-            ("devices", &["board", "link"]),
+            ("devices", &["board", "link", "step_frame"]),
             ("timing", &["realtime"]),
             ("coupling", &["coupling", "compare"]),
         ],

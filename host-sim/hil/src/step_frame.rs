@@ -4,9 +4,9 @@
 //! [`MAX_FRAME`] bytes. Without this check a rate the frame cannot carry was accepted and the
 //! run failed at its first step with "cannot encode request 2", naming no key.
 
-use crate::{Error, Result};
 use maglev_firmware_sim::heapless::Vec;
 use maglev_firmware_sim::protocol::{self, Envelope, Request, MAX_FRAME, MAX_SAMPLES, VERSION};
+use maglev_sim::{Error, Result};
 
 /// The largest step request of `ticks` ticks over `channels` channels, with `accels`
 /// accelerometers (`None`: a law without them), encoded with every value at its longest

@@ -18,7 +18,7 @@
 use maglev_sim::probes::Rows;
 use maglev_sim::setup::simulate;
 use maglev_sim::simulation::magnets::CoreMagnets;
-use maglev_sim::studies::design::load;
+use maglev_sim::studies::design::{load, resolve};
 use maglev_sim::studies::stability::coupled::critical;
 use maglev_sim::studies::stability::report::{scenario_report, ScenarioReport};
 use nalgebra::{Complex, DMatrix};
@@ -238,6 +238,7 @@ fn critical_girder_mass_equals_a_bisection_of_the_hand_model() {
         "bridge.mass_t_per_m",
         [0.05, 20.0],
         1,
+        &resolve,
     )
     .unwrap();
     let mu_c = found.critical.expect("a crossing in range");
@@ -276,6 +277,7 @@ fn critical_refuses_bad_input_naming_the_key() {
         "bridge.mass_t_per_mm",
         [0.1, 1.0],
         1,
+        &resolve,
     )
     .unwrap_err();
     assert!(e.to_string().contains("mass_t_per_mm"), "{e}");
@@ -286,6 +288,7 @@ fn critical_refuses_bad_input_naming_the_key() {
         "bridge.mass_t_per_m",
         [1.0, 0.5],
         1,
+        &resolve,
     )
     .unwrap_err();
     assert!(e.to_string().contains("--range"), "{e}");
@@ -296,6 +299,7 @@ fn critical_refuses_bad_input_naming_the_key() {
         "bridge.mass_t_per_m",
         [-1.0, 1.0],
         1,
+        &resolve,
     )
     .unwrap_err();
     assert!(e.to_string().contains("mass_t_per_m"), "{e}");

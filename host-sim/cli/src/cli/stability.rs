@@ -251,6 +251,7 @@ pub fn run(args: Args) -> crate::Result<()> {
             key,
             [range[0], range[1]],
             args.girder_modes,
+            &crate::studies::design::resolve,
         )?;
         return print(
             &(serde_json::to_string_pretty(&r)

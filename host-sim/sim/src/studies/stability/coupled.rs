@@ -50,7 +50,7 @@ pub fn coupled(case: &Case, count: usize) -> crate::Result<Option<(Vec<GirderMod
         )
     })?;
     let law = case.law()?;
-    crate::studies::stability::report::runnable(case, &v, &inner, law)?;
+    crate::studies::stability::vehicle::runnable(case, &v, &inner, law)?;
     let modes = girder_modes(case, &v.wheels, count)?;
     let plant = VehiclePlant::on_girder(&v, &inner, &law, case.geometry, &modes)?;
     let vd: Verdict = plant.verdict()?;
@@ -85,7 +85,9 @@ pub struct Critical {
 /// crosses zero, with the law resolved once at the scenario's own values (`base` is `name`
 /// with `sets`, loaded with its law resolved, [`crate::studies::design::load`]), unless
 /// `key` changes the law itself (a gain of `[controller.state]`, `controller.law`): then each
-/// point analyses the law as the key gives it there (designed there, where it is designed).
+/// point analyses the law as the key gives it there, designed there by `resolve` where it is
+/// designed (the caller passes [`crate::studies::design::resolve`]: design sits above this
+/// module).
 ///
 /// Method: `max_real_part` on [`SCAN`] points (log-spaced if `lo > 0`, else even) brackets the
 /// first sign change; bisection narrows it to 1e-9 of the range, or to adjacent floats (at
@@ -98,6 +100,7 @@ pub fn critical(
     key: &str,
     [lo, hi]: [f64; 2],
     count: usize,
+    resolve: &dyn Fn(Case) -> crate::Result<Case>,
 ) -> crate::Result<Critical> {
     if !(lo.is_finite() && hi.is_finite() && lo < hi) {
         return Err(crate::Error::invalid(
@@ -113,7 +116,7 @@ pub fn critical(
         if c.law == unresolved {
             c.law = base.law;
         } else {
-            c = crate::studies::design::resolve(c)?;
+            c = resolve(c)?;
         }
         match coupled(&c, count)? {
             Some((_, v)) => Ok(v.max_real_part),

@@ -4,14 +4,12 @@
 //! per-magnet loop poles.
 
 use crate::input::case::Case;
-use crate::physics::vehicle::VehicleModel;
 use crate::studies::stability::coupled::{coupled, Coupled};
 use crate::studies::stability::girder::GirderMode;
 use crate::studies::stability::margins::{margins, Margins};
-use crate::studies::stability::vehicle::{min_damping, vehicle_of, VehiclePlant};
+use crate::studies::stability::vehicle::{min_damping, runnable, vehicle_of, VehiclePlant};
 use crate::studies::stability::Complex;
 use maglev_core::law::state::StateParams;
-use maglev_core::{LawKind, Params};
 use serde::Serialize;
 
 /// One magnet's plant as the analysis used it (SI).
@@ -85,16 +83,6 @@ pub struct ScenarioReport {
     /// The closed loop with those modes coupled at the magnets, the same gains
     /// ([`crate::studies::stability::coupled`]).
     pub coupled: Option<Coupled>,
-}
-
-/// `Err` where a run of `case` would refuse its law: each magnet wheel of `v` compiled as the
-/// run compiles it ([`crate::simulation::magnets::compile_law`]), so that no analysis judges a
-/// law that `maglev run` refuses (`vmax_V = 1e-300`).
-pub fn runnable(case: &Case, v: &VehicleModel, inner: &Params, law: LawKind) -> crate::Result<()> {
-    for &p0 in &v.p0 {
-        crate::simulation::magnets::compile_law(inner, law, p0, case.dt)?;
-    }
-    Ok(())
 }
 
 /// The delay in series in the margins: 1.5 control periods (module docs of

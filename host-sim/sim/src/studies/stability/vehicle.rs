@@ -110,6 +110,16 @@ impl Verdict {
     }
 }
 
+/// `Err` where a run of `case` would refuse its law: each magnet wheel of `v` compiled as the
+/// run compiles it ([`crate::simulation::magnets::compile_law`]), so that no analysis judges a
+/// law that `maglev run` refuses (`vmax_V = 1e-300`).
+pub fn runnable(case: &Case, v: &VehicleModel, inner: &Params, law: LawKind) -> crate::Result<()> {
+    for &p0 in &v.p0 {
+        crate::simulation::magnets::compile_law(inner, law, p0, case.dt)?;
+    }
+    Ok(())
+}
+
 /// Rows `idx` and columns `jdx` of `m`.
 fn sub(m: &DMatrix<f64>, idx: &[usize], jdx: &[usize]) -> DMatrix<f64> {
     DMatrix::from_fn(idx.len(), jdx.len(), |i, j| m[(idx[i], jdx[j])])
