@@ -290,6 +290,19 @@ pub(super) fn ground(
     Ok(points)
 }
 
+// The ground's recorder for a case: here, where the case is known, so that `ground` never
+// names the input layer.
+impl crate::ground::receivers::BaseForces {
+    /// The recorder a run of `case` needs: every pier's base force when the case has a
+    /// viaduct and ground receivers (`maglev run`, the Python binding), else `None`.
+    pub fn for_case(case: &crate::input::case::Case) -> Option<Self> {
+        let v = case.viaduct.as_ref()?;
+        case.ground.as_ref()?;
+        let f = &v.foundation;
+        Some(Self::new(v.spans + 1, f.stiffness[2], f.damping[2]))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::Case;
@@ -366,18 +379,5 @@ mod tests {
         assert!(e.to_string().starts_with("run.model"), "{e}");
         let e = Case::load("paper-5", &["bridge.pier.height_m=-1".into()]).unwrap_err();
         assert!(e.to_string().starts_with("bridge.pier.height_m"), "{e}");
-    }
-}
-
-// The ground's recorder for a case: here, where the case is known, so that `ground` never
-// names the input layer.
-impl crate::ground::receivers::BaseForces {
-    /// The recorder a run of `case` needs: every pier's base force when the case has a
-    /// viaduct and ground receivers (`maglev run`, the Python binding), else `None`.
-    pub fn for_case(case: &crate::input::case::Case) -> Option<Self> {
-        let v = case.viaduct.as_ref()?;
-        case.ground.as_ref()?;
-        let f = &v.foundation;
-        Some(Self::new(v.spans + 1, f.stiffness[2], f.damping[2]))
     }
 }
