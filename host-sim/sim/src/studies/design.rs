@@ -32,11 +32,10 @@ fn design_vehicle(case: &Case) -> Result<VehicleModel> {
 /// is to be designed and the case has `[controller.guidance]`
 /// ([`crate::studies::stability::state_design::design_guided`]).
 pub fn resolve(case: Case) -> Result<Case> {
-    let guided_design = match (case.law, case.guidance) {
-        (_, GuidanceChoice::Design) => true,
-        (LawChoice::DesignState(_), GuidanceChoice::Given(_)) => true,
-        _ => false,
-    };
+    let guided_design = matches!(
+        (case.law, case.guidance),
+        (_, GuidanceChoice::Design) | (LawChoice::DesignState(_), GuidanceChoice::Given(_))
+    );
     if guided_design {
         resolve_guided(case)
     } else {

@@ -41,10 +41,7 @@ fn placed(c: f64, (r, zeta, rho): (f64, f64, f64)) -> Vec<Complex> {
     let w = r * c.sqrt();
     let im = w * (1.0 - zeta * zeta).sqrt();
     vec![
-        Complex {
-            re: -zeta * w,
-            im: im,
-        },
+        Complex { re: -zeta * w, im },
         Complex {
             re: -zeta * w,
             im: -im,
