@@ -31,6 +31,7 @@
 
 mod control;
 mod field;
+pub mod guidance;
 mod properties;
 pub mod state;
 
@@ -40,7 +41,7 @@ pub use properties::Sensors;
 
 use crate::gap::Geometry;
 use crate::gap_control::{GapLoop, GapParams, GapState};
-use crate::guidance::{self, PairOutput};
+use crate::guidance::PairOutput;
 use crate::levitation::{Levitation, Output, ParamError, Params, State, Status};
 use crate::scalar::Scalar;
 use state::{StateLaw, StateLawState, StateParams};
@@ -233,7 +234,7 @@ impl<S: Scalar> Law<S> {
     }
 
     /// Both magnets of a guidance pair in equilibrium at relative lateral position `d` (m):
-    /// `[left, right]` at `h0 + d`, `h0 − d` ([`guidance::initial_state`]).
+    /// `[left, right]` at `h0 + d`, `h0 − d` ([`crate::guidance::initial_state`]).
     pub fn pair_equilibrium_state(&self, d: f64) -> [LawState<S>; 2] {
         let h0 = self.inner.params().h0;
         [
@@ -265,7 +266,7 @@ impl<S: Scalar> Law<S> {
     }
 
     /// One outer step of both magnets of a guidance pair, each under this law on its own gap;
-    /// `d_pu = (y_w − y_g + r_y)/h0` at the end of the step ([`guidance::update_with`]).
+    /// `d_pu = (y_w − y_g + r_y)/h0` at the end of the step ([`crate::guidance::update_with`]).
     pub fn update_pair(
         &self,
         geometry: Geometry,
@@ -273,7 +274,7 @@ impl<S: Scalar> Law<S> {
         d_pu: S,
     ) -> PairOutput<S> {
         let [left, right] = st;
-        guidance::update_with(geometry, left, right, d_pu, |s, h| {
+        crate::guidance::update_with(geometry, left, right, d_pu, |s, h| {
             self.update(s, Measurement::gap(h))
         })
     }
@@ -319,7 +320,7 @@ mod tests {
                 let d = 0.03 * libm::cos(k as f64 * 0.07);
                 let po = law.update_pair(Geometry::Ems, &mut pair, d);
                 let [l, r] = &mut pair_ref;
-                let want = guidance::update_with(Geometry::Ems, l, r, d, |s, h| {
+                let want = crate::guidance::update_with(Geometry::Ems, l, r, d, |s, h| {
                     law.update(s, Measurement::gap(h))
                 });
                 assert_eq!(po, want, "pair step {k}");

@@ -145,6 +145,7 @@ impl Passage {
                 .controller
                 .unwrap_or_else(|| maglev_core::levitation::Params::paper_wheel(case.dt)),
             law: case.law()?,
+            guidance: case.guidance()?,
             geometry: case.geometry,
             tolerance: case.tolerance,
             max_iterations: case.max_iterations,

@@ -90,6 +90,9 @@ pub struct Settings {
     pub controller: Params,
     /// The law of every levitation and guidance magnet (`maglev_core::law`).
     pub law: LawKind,
+    /// The guidance pairs' own law under the state law (`[controller.guidance]`,
+    /// `maglev_core::law::guidance`): `None`, each guidance magnet runs `law` on its gap.
+    pub guidance: Option<maglev_core::law::guidance::GuidanceParams>,
     /// How the magnets face their rails (Eq. 2 and the guidance pair's sign, docs/model.md §2).
     pub geometry: Geometry,
     /// Convergence tolerance on the gaps between two iterations (m).
@@ -210,6 +213,12 @@ pub trait Magnets {
         accels: &[f64],
         out: &mut [(f64, f64)],
     ) -> Result<()>;
+
+    /// Each wheel's lateral acceleration at the iterate of the next [`Magnets::forces`] call
+    /// (m/s², +Y, absolute; 0 for a wheel without a lateral DOF): what an accelerometer on
+    /// the guidance magnets reads. Given before every call; ignored by default (only a
+    /// guidance law that feeds it back, `maglev_core::law::guidance`, reads it).
+    fn lateral_accels(&mut self, _accels_y: &[f64]) {}
 
     /// Makes the state after the last [`Magnets::forces`] call of `step` the committed one.
     fn commit(&mut self, step: u32, t: f64) -> Result<()>;

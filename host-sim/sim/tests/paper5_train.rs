@@ -39,6 +39,7 @@ fn settings(
         t_end,
         controller: Params::paper_wheel(DT),
         law,
+        guidance: None,
         geometry,
         tolerance: 1e-9,
         max_iterations: 50,

@@ -88,6 +88,7 @@ fn drop(skid: Skid, speed: f64, t_end: f64) -> (Outcome, Vec<f64>) {
         t_end,
         controller: Params::paper(MASS * G, DT),
         law: LawKind::Paper,
+        guidance: None,
         geometry: Geometry::Paper,
         tolerance: 1e-13,
         max_iterations: 50,

@@ -4,6 +4,7 @@
 
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
+use maglev_core::law::guidance::GuidanceParams;
 use maglev_core::law::state::StateParams;
 use maglev_core::{LawName, Params};
 use serde::{Deserialize, Serialize};
@@ -508,6 +509,46 @@ pub struct LawSection {
     pub law: LawName,
     /// The state law's gains and timing (`[controller.state]`), used when `law = "state"`.
     pub state: Option<StateSection>,
+    /// The guidance pairs' own law under the state law (`[controller.guidance]`); absent,
+    /// each guidance magnet runs the levitation law on its own gap.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub guidance: Option<GuidanceSection>,
+}
+
+/// `[controller.guidance]`: the guidance law's five gains in the core's own type (units in
+/// the keys, `maglev_core::law::guidance::GuidanceParams`), or `design = true` alone to have
+/// them designed from the case's vehicle (docs/levitation.md). Timing and supply are
+/// `[controller.state]`'s.
+#[derive(Serialize, Debug, Clone, Copy, PartialEq)]
+#[serde(untagged)]
+pub enum GuidanceSection {
+    /// The gains as given.
+    Gains(GuidanceParams),
+    /// `design = true`.
+    Design { design: bool },
+}
+
+impl<'de> Deserialize<'de> for GuidanceSection {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde::de::Error as _;
+        let mut table = toml::Table::deserialize(d)?;
+        match table.remove("design") {
+            Some(toml::Value::Boolean(true)) => match table.keys().next() {
+                Some(k) => Err(D::Error::custom(format!(
+                    "{k}: is designed with design = true; give the gains or design, not both"
+                ))),
+                None => Ok(GuidanceSection::Design { design: true }),
+            },
+            Some(toml::Value::Boolean(false)) | None => {
+                GuidanceParams::deserialize(toml::Value::Table(table))
+                    .map(GuidanceSection::Gains)
+                    .map_err(D::Error::custom)
+            }
+            Some(v) => Err(D::Error::custom(format!(
+                "design: must be true or false, got {v}"
+            ))),
+        }
+    }
 }
 
 impl<'de> Deserialize<'de> for ControllerSection {

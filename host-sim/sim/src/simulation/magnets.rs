@@ -12,6 +12,7 @@ use crate::physics::vehicle::Coil;
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::guidance;
+use maglev_core::law::guidance::{GuidanceLaw, GuidanceParams, GuidanceState, PairMeasurement};
 use maglev_core::levitation::batch::update_batch;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::levitation::{Output, State};
@@ -26,8 +27,38 @@ struct WheelCtl<L: Control<f64>> {
     accel: bool,
     /// The levitation magnet's state.
     lev_state: L::State,
-    /// The guidance pair's states, `[left, right]`.
+    /// The guidance pair's states, `[left, right]` (under a guidance law, their coils are
+    /// its coils, copied after every update).
     pair: [L::State; 2],
+    /// The guidance pair's own law (`[controller.guidance]`), if the run has one.
+    guide: Option<Guide>,
+}
+
+/// A guidance pair under the guidance law (`maglev_core::law::guidance`): the law, its
+/// committed state and the trial of the last [`Magnets::forces`].
+struct Guide {
+    law: GuidanceLaw<f64>,
+    committed: GuidanceState<f64>,
+    trial: GuidanceState<f64>,
+}
+
+/// The guidance law of one wheel's pair as a run compiles it: `guidance` with the timing and
+/// supply of the levitation state law `law`, over the wheel's magnet (its `p0`, the run's
+/// `Δt`); a refusal names the key.
+pub fn compile_guidance(
+    guidance: &GuidanceParams,
+    law: &LawKind,
+    magnet: &Params,
+) -> Result<GuidanceLaw<f64>> {
+    let timing = law.state().ok_or_else(|| {
+        Error::invalid(
+            "controller.guidance",
+            "needs law = \"state\" (the guidance law shares its timing and supply)",
+        )
+    })?;
+    guidance
+        .compile::<f64>(timing, magnet)
+        .map_err(crate::input::case::guidance_error)
 }
 
 /// The trial state of a step, if any.
@@ -85,6 +116,8 @@ pub struct CoreMagnets<L: Control<f64> = Law<f64>> {
     trial_out: Vec<[Output<f64>; 3]>,
     /// Every magnet's coil at the last committed step ([`Magnets::coils`]).
     coils: Vec<[Coil; 3]>,
+    /// Each wheel's lateral acceleration at the iterate ([`Magnets::lateral_accels`]).
+    accels_y: Vec<f64>,
     /// Which trial the last `forces` left.
     pending: Pending,
     /// Whether every wheel's law batches ([`Control::batch`], asked once).
@@ -130,6 +163,7 @@ impl<L: Control<f64>> CoreMagnets<L> {
             trial: Vec::new(),
             trial_out: Vec::new(),
             coils: Vec::new(),
+            accels_y: Vec::new(),
             pending: Pending::None,
             batches: false,
             status: Status::default(),
@@ -147,13 +181,30 @@ impl<L: Control<f64>> CoreMagnets<L> {
             magnet.dt = s.dt;
             let law =
                 (self.build)(s, magnet).map_err(|e| Error::invalid("controller", e.to_string()))?;
+            let mut pair = law.pair_equilibrium_state(gy);
+            let guide = match &s.guidance {
+                Some(g) => {
+                    let law = compile_guidance(g, &s.law, &magnet)?;
+                    let st = law.equilibrium(gy);
+                    *L::coil_state_mut(&mut pair[0]) = st.left;
+                    *L::coil_state_mut(&mut pair[1]) = st.right;
+                    Some(Guide {
+                        law,
+                        committed: st,
+                        trial: st,
+                    })
+                }
+                None => None,
+            };
             ctl.push(WheelCtl {
                 accel: law.sensors().accel,
                 lev_state: law.equilibrium_state(h_init),
-                pair: law.pair_equilibrium_state(gy),
+                pair,
+                guide,
                 law,
             });
         }
+        self.accels_y = vec![0.0; ctl.len()];
         let mags: Vec<Levitation<f64>> = ctl
             .iter()
             .flat_map(|c| [*c.law.batch().unwrap_or(c.law.coil()); 3])
@@ -177,7 +228,9 @@ impl<L: Control<f64>> CoreMagnets<L> {
             })
             .collect();
         self.pending = Pending::None;
-        self.batches = ctl.iter().all(|c| c.law.batch().is_some());
+        self.batches = ctl
+            .iter()
+            .all(|c| c.law.batch().is_some() && c.guide.is_none());
         self.ctl = ctl;
         self.status = Status::default();
         self.geometry = s.geometry;
@@ -239,7 +292,7 @@ impl<L: Control<f64>> CoreMagnets<L> {
     /// Every wheel by its own law (any law, any gap): the trial in `trial`
     /// ([`Pending::General`]).
     fn general(&mut self, gaps_next: &[WheelGaps], accels: &[f64], out: &mut [(f64, f64)]) {
-        for (i, c) in self.ctl.iter().enumerate() {
+        for (i, c) in self.ctl.iter_mut().enumerate() {
             let (hz, dy) = gaps_next[i];
             let magnet = c.law.coil().params();
             let h0 = magnet.h0;
@@ -253,7 +306,20 @@ impl<L: Control<f64>> CoreMagnets<L> {
                 },
             );
             let mut pair = c.pair;
-            let pair_out = c.law.update_pair(self.geometry, &mut pair, dy / h0);
+            let pair_out = match &mut c.guide {
+                Some(g) => {
+                    g.trial = g.committed;
+                    let m = PairMeasurement {
+                        d: dy / h0,
+                        accel: Some(self.accels_y[i] / GRAVITY),
+                    };
+                    let out = g.law.update(&mut g.trial, m, self.geometry);
+                    *L::coil_state_mut(&mut pair[0]) = g.trial.left;
+                    *L::coil_state_mut(&mut pair[1]) = g.trial.right;
+                    out
+                }
+                None => c.law.update_pair(self.geometry, &mut pair, dy / h0),
+            };
             self.status = self.status.union(lev_out.status).union(pair_out.status);
             let p0 = magnet.p0;
             out[i] = (lev_out.force * p0, pair_out.force_y * p0);
@@ -294,6 +360,11 @@ impl<L: Control<f64>> Magnets for CoreMagnets<L> {
         Ok(())
     }
 
+    fn lateral_accels(&mut self, accels_y: &[f64]) {
+        let n = self.accels_y.len();
+        self.accels_y.copy_from_slice(&accels_y[..n]);
+    }
+
     fn commit(&mut self, _step: u32, _t: f64) -> Result<()> {
         match self.pending {
             Pending::None => return Err(Error::numerical("internal: commit without a step")),
@@ -322,6 +393,9 @@ impl<L: Control<f64>> Magnets for CoreMagnets<L> {
                 {
                     c.lev_state = st;
                     c.pair = pair;
+                    if let Some(g) = &mut c.guide {
+                        g.committed = g.trial;
+                    }
                     *coil = coils(&c.law, o);
                 }
                 self.gather_committed();
@@ -390,6 +464,7 @@ mod tests {
                 t_end: 0.3,
                 controller,
                 law: maglev_core::LawKind::Paper,
+                guidance: None,
                 geometry: Geometry::Paper,
                 tolerance: 1e-9,
                 max_iterations: 10,

@@ -97,6 +97,8 @@ struct IterationState {
     current: Vec<WheelGaps>,
     /// Per magnet wheel: its vertical acceleration at the current iterate (m/s², Z up).
     accels: Vec<f64>,
+    /// Per magnet wheel: its lateral acceleration there (m/s², +Y; 0 without a lateral DOF).
+    accels_y: Vec<f64>,
     /// The magnets' forces `(G_z, G_y)` and the cars' wheel loads `(G_z − p0, G_y)` (N).
     forces: Vec<(f64, f64)>,
     f: Vec<(f64, f64)>,
@@ -297,6 +299,7 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
     /// under all loads, and the new gaps and rail motion. Whether some contact lifted off.
     fn pass(&mut self, step: u32, t: f64) -> Result<bool> {
         let it = &mut self.it;
+        self.magnets.lateral_accels(&it.accels_y);
         self.magnets.forces(
             step,
             t,
@@ -392,21 +395,24 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
         let (s, at, veh) = (self.s, &self.at, &self.veh);
         for (i, w) in self.train.wheels.iter().enumerate() {
             let m = self.guideway.motion_at(at.xs[i], w.ey, w.ez);
-            let (uy, uz, az) = if trial {
+            let (uy, uz, az, ay) = if trial {
                 let (c, z) = (w.car, w.dof_z);
                 (
                     w.dof_y.map_or(0.0, |y| veh.u1(c, y)),
                     veh.u1(c, z),
                     veh.a1(c, z),
+                    w.dof_y.map_or(0.0, |y| veh.a1(c, y)),
                 )
             } else {
                 (
                     w.dof_y.map_or(0.0, |y| veh.u(w.car, y)),
                     veh.u(w.car, w.dof_z),
                     veh.a(w.car, w.dof_z),
+                    w.dof_y.map_or(0.0, |y| veh.a(w.car, y)),
                 )
             };
             self.it.accels[i] = az;
+            self.it.accels_y[i] = ay;
             self.it.current[i] = (
                 s.geometry.levitation_gap(self.h0, uz, m.z, at.rz[i]),
                 maglev_core::gap::lateral_offset(uy, m.y, at.ry[i]),
@@ -600,6 +606,7 @@ impl IterationState {
             gaps_used: vec![(0.0, 0.0); nw],
             current: vec![(0.0, 0.0); nw],
             accels: vec![0.0; nw],
+            accels_y: vec![0.0; nw],
             gaps_prev,
             forces: v.p0.iter().map(|&p0| (p0, 0.0)).collect(),
             f: vec![(0.0, 0.0); nw],

@@ -7,27 +7,19 @@
 //! `hil`, `sweep`, `validate`, `report`, `stability --scenario`); a case left unresolved is
 //! refused by `Case::law`.
 
-use crate::input::case::{Case, Changes, LawChoice, TrainCase};
-use crate::physics::train::Train;
+use crate::input::case::{Case, Changes, GuidanceChoice, LawChoice, TrainCase};
 use crate::physics::vehicle::VehicleModel;
 use crate::{Error, Result};
 use maglev_core::gap_control::GapParams;
-use maglev_core::levitation::GRAVITY;
 use maglev_core::LawKind;
 
 /// The vehicle a design works on: the case's car (one of them: the cars of a train are
 /// equal), or the unit.
 fn design_vehicle(case: &Case) -> Result<VehicleModel> {
     match &case.train {
-        TrainCase::Fig1 { car, .. } => VehicleModel::fig1(car, GRAVITY),
-        TrainCase::Maglev { magnet_mass, .. } => {
-            Ok(
-                Train::fig6_with(&crate::input::case::fig6(*magnet_mass), 1, GRAVITY)?
-                    .cars
-                    .remove(0),
-            )
+        TrainCase::Fig1 { .. } | TrainCase::Maglev { .. } | TrainCase::Unit(_) => {
+            crate::studies::stability::vehicle::vehicle_of(case).map(|(v, _, _)| v)
         }
-        TrainCase::Unit(u) => VehicleModel::unit(u, GRAVITY),
         TrainCase::Forces(_) | TrainCase::WheelRail { .. } => Err(Error::invalid(
             "controller.law",
             "a train without magnets has no gains to design",
@@ -35,8 +27,59 @@ fn design_vehicle(case: &Case) -> Result<VehicleModel> {
     }
 }
 
-/// `case` with its law designed (module docs); a case whose law is given is returned as is.
-pub fn resolve(mut case: Case) -> Result<Case> {
+/// `case` with its laws designed (module docs); a case whose laws are given is returned as
+/// is. A guided vehicle's levitation and guidance gains are designed together when either
+/// is to be designed and the case has `[controller.guidance]`
+/// ([`crate::studies::stability::state_design::design_guided`]).
+pub fn resolve(case: Case) -> Result<Case> {
+    let guided_design = matches!(
+        (case.law, case.guidance),
+        (_, GuidanceChoice::Design) | (LawChoice::DesignState(_), GuidanceChoice::Given(_))
+    );
+    if guided_design {
+        resolve_guided(case)
+    } else {
+        resolve_levitation(case)
+    }
+}
+
+/// [`resolve`] for a guided vehicle under the state law and the guidance law.
+fn resolve_guided(mut case: Case) -> Result<Case> {
+    use crate::studies::stability::state_design::{design_guided, Want};
+    let controller = case
+        .controller
+        .ok_or_else(|| Error::invalid("controller", "a design needs a [controller] section"))?;
+    let (base, levitation) = match case.law {
+        LawChoice::DesignState(base) => (base, Want::Design),
+        LawChoice::Given(LawKind::State(s)) => (s, Want::Given(s)),
+        _ => {
+            return Err(Error::invalid(
+                "controller.guidance",
+                "needs law = \"state\" (the guidance law shares its timing and supply)",
+            ))
+        }
+    };
+    let guidance = match case.guidance {
+        GuidanceChoice::Given(g) => Want::Given(g),
+        _ => Want::Design,
+    };
+    let v = design_vehicle(&case)?;
+    let (lev, guide) = design_guided(
+        &v,
+        &controller,
+        &base,
+        levitation,
+        guidance,
+        case.geometry,
+        case.dt,
+    )?;
+    case.law = LawChoice::Given(LawKind::State(lev));
+    case.guidance = GuidanceChoice::Given(guide);
+    Ok(case)
+}
+
+/// [`resolve`] of the levitation law alone.
+fn resolve_levitation(mut case: Case) -> Result<Case> {
     let kind = match case.law {
         LawChoice::Given(_) => return Ok(case),
         LawChoice::DesignGapLoop | LawChoice::DesignState(_) => {

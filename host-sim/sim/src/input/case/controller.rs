@@ -5,10 +5,11 @@
 
 use super::checks::{in_range, within};
 use super::train::TrainCase;
-use crate::input::scenario::{Scenario, StateSection};
+use crate::input::scenario::{GuidanceSection, Scenario, StateSection};
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
+use maglev_core::law::guidance::GuidanceParams;
 use maglev_core::law::state::StateParams;
 use maglev_core::{LawKind, LawName, Params};
 
@@ -34,6 +35,76 @@ impl LawChoice {
             LawChoice::DesignGapLoop => LawKind::GapLoop(GapParams::designed()),
             LawChoice::DesignState(s) => LawKind::State(s),
         }
+    }
+}
+
+/// The guidance pairs' law as the input gives it (`[controller.guidance]`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum GuidanceChoice {
+    /// No `[controller.guidance]`: each guidance magnet runs the levitation law on its own gap.
+    #[default]
+    None,
+    /// The guidance law (`maglev_core::law::guidance`) with these gains.
+    Given(GuidanceParams),
+    /// Its gains designed for the case's vehicle (`crate::studies::design::resolve`).
+    Design,
+}
+
+impl GuidanceChoice {
+    /// Whether the case has no `[controller.guidance]`.
+    pub fn is_none(&self) -> bool {
+        matches!(self, GuidanceChoice::None)
+    }
+}
+
+/// As summary.json records it: the gains under their serde names, or
+/// `{"design": "pending"}`; absent without `[controller.guidance]`.
+impl serde::Serialize for GuidanceChoice {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match self {
+            GuidanceChoice::Given(g) => g.serialize(s),
+            GuidanceChoice::Design => serde_json::json!({"design": "pending"}).serialize(s),
+            GuidanceChoice::None => s.serialize_none(),
+        }
+    }
+}
+
+/// `[controller.guidance]`: refused unless the levitation law is the state law (whose
+/// timing and supply the guidance law shares); every gain finite, at most the scenario's
+/// largest magnitude and not negative, each error naming its key.
+pub(super) fn guidance(sc: &Scenario, law: &LawChoice) -> Result<GuidanceChoice> {
+    let Some(section) = sc.controller.as_ref().and_then(|c| c.law.guidance) else {
+        return Ok(GuidanceChoice::None);
+    };
+    if law.kind().state().is_none() {
+        return Err(Error::invalid(
+            "controller.guidance",
+            "needs law = \"state\" (the guidance law shares [controller.state]'s timing and \
+             supply)",
+        ));
+    }
+    match section {
+        GuidanceSection::Design { .. } => Ok(GuidanceChoice::Design),
+        GuidanceSection::Gains(g) => {
+            for (field, v) in g.gains() {
+                let key = format!("controller.guidance.{}", field.key.unwrap_or(field.name));
+                if v.is_finite() {
+                    in_range(&key, v)?;
+                }
+            }
+            g.validate().map_err(guidance_error)?;
+            Ok(GuidanceChoice::Given(g))
+        }
+    }
+}
+
+/// A guidance law's parameter error under its scenario key.
+pub fn guidance_error(e: maglev_core::ParamError) -> Error {
+    match e.field().key {
+        Some(k) if e.field().name.starts_with("guidance") => {
+            Error::invalid(format!("controller.guidance.{k}"), e.to_string())
+        }
+        _ => Error::invalid("controller.guidance", e.to_string()),
     }
 }
 

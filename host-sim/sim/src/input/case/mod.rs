@@ -35,7 +35,7 @@ pub use bridge::{check_fe_size, MAX_CONDITION, MAX_FE_DOFS};
 pub use budget::{MAX_PROFILE_M, MAX_RECORD_BYTES, MAX_STEPS, MAX_SUB_STEPS};
 pub use changes::Changes;
 pub use checks::MAX_MAGNITUDE;
-pub use controller::LawChoice;
+pub use controller::{guidance_error, GuidanceChoice, LawChoice};
 pub use train::{fig6, TrainCase, MAX_CARS, MAX_LOADS};
 pub use viaduct::{soil_density, MAX_PIER_ELEMENTS, MAX_RECEIVERS};
 
@@ -51,6 +51,7 @@ use crate::probes::Probes;
 use crate::{Error, Result};
 use checks::{at_least, bounded, non_negative, positive};
 use maglev_core::gap::Geometry;
+use maglev_core::law::guidance::GuidanceParams;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::{LawKind, Params};
 use serde::Serialize;
@@ -102,6 +103,10 @@ pub struct Case {
     pub controller: Option<Params>,
     /// The levitation law, or what to design (`crate::studies::design::resolve`).
     pub law: LawChoice,
+    /// The guidance pairs' law (`[controller.guidance]`), or what to design; absent from
+    /// summary.json without the section.
+    #[serde(skip_serializing_if = "GuidanceChoice::is_none")]
+    pub guidance: GuidanceChoice,
     pub geometry: Geometry,
     /// The irregularity's seed, when the irregularity is on.
     pub irregularity_seed: Option<u64>,
@@ -216,6 +221,7 @@ impl Case {
         if law.kind().sensors().accel {
             controller::state_law_magnets(&train)?;
         }
+        let guidance = controller::guidance(&sc, &law)?;
         budget::check_budget(&budget::Budget {
             steps: steps.round() + 1.0,
             train: &train,
@@ -251,6 +257,7 @@ impl Case {
             train,
             controller,
             law,
+            guidance,
             geometry,
             irregularity_seed,
             probes,
@@ -286,6 +293,18 @@ impl Case {
             LawChoice::Given(k) => Ok(k),
             _ => Err(Error::numerical(
                 "internal: the law's gains are designed after the case (design::resolve)",
+            )),
+        }
+    }
+
+    /// The guidance pairs' law to run (`None`: the levitation law on each guidance magnet);
+    /// an error if it is still to be designed (`crate::studies::design::resolve`).
+    pub fn guidance(&self) -> Result<Option<GuidanceParams>> {
+        match self.guidance {
+            GuidanceChoice::None => Ok(None),
+            GuidanceChoice::Given(g) => Ok(Some(g)),
+            GuidanceChoice::Design => Err(Error::numerical(
+                "internal: the guidance gains are designed after the case (design::resolve)",
             )),
         }
     }

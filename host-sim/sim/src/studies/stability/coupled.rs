@@ -52,7 +52,9 @@ pub fn coupled(case: &Case, count: usize) -> crate::Result<Option<(Vec<GirderMod
     let law = case.law()?;
     crate::studies::stability::vehicle::runnable(case, &v, &inner, law)?;
     let modes = girder_modes(case, &v.wheels, count)?;
-    let plant = VehiclePlant::on_girder(&v, &inner, &law, case.geometry, &modes)?;
+    let guidance = case.guidance()?;
+    let plant =
+        VehiclePlant::guided_on_girder(&v, &inner, &law, guidance.as_ref(), case.geometry, &modes)?;
     let vd: Verdict = plant.verdict()?;
     let source = format!(
         "the FE span's first {count} vertical bending modes ({} elements per span), each \

@@ -17,6 +17,7 @@
 
 use super::inner_loop::Loop;
 use maglev_core::gap_control::GapParams;
+use maglev_core::law::guidance::GuidanceParams;
 use maglev_core::law::state::StateParams;
 use maglev_core::Params;
 use nalgebra::DMatrix;
@@ -174,4 +175,76 @@ pub fn write_state_rows(
     }
     dv[at.x] += 1.0;
     dv
+}
+
+/// What a guidance pair under the guidance law reads, as rows over the closed-loop state:
+/// each magnet's gap `[η_L, η_R]` and its rate (exact), and the pair's absolute lateral
+/// acceleration in m/s² (+Y) where it has an accelerometer.
+pub struct PairSensors<'a> {
+    pub eta: [&'a [f64]; 2],
+    pub eta_rate: [&'a [f64]; 2],
+    pub accel: Option<&'a [f64]>,
+}
+
+/// Writes the rows of both coils `x = [x_L, x_R]` and of the pair's integral `u` of a
+/// guidance pair under the guidance law (`maglev_core::law::guidance`, G1–G3), continuous
+/// time, ideal sensors, linearised about the pair's equilibrium at `d = 0`:
+///
+/// ```text
+/// τ·ẋ_k = Δv_k − η_k − x_k,     Δv_L = Δv_c + Δv_d,  Δv_R = Δv_c − Δv_d
+/// Δv_d = Kp·η_d + Kd·η̇_d + (ka/V_b)·a_y + u − Kc·Δi_d,   Δv_c = −Kc·Δi_c,   u̇ = Ki·η_d
+/// η_d = (η_L − η_R)/2,  Δi_d = (Δi_L − Δi_R)/2,  Δi_c = (Δi_L + Δi_R)/2,  Δi_k = x_k + η_k
+/// ```
+/// (per-unit gains as [`write_state_rows`]'). Returns `[Δv_L, Δv_R]` as rows over the state.
+pub fn write_guidance_rows(
+    a: &mut DMatrix<f64>,
+    x: [usize; 2],
+    u: usize,
+    sensors: &PairSensors,
+    lp: &Loop,
+    law: &GuidanceParams,
+    magnet: &Params,
+) -> [Vec<f64>; 2] {
+    let n = a.ncols();
+    let vb = magnet.v_base();
+    let (h0, i0) = (magnet.h0, magnet.i0);
+    let (kp, kd, ki, kc) = (
+        law.kp * h0 / vb,
+        law.kd * h0 / vb,
+        law.ki * h0 / vb,
+        law.kc * i0 / vb,
+    );
+    let [el, er] = sensors.eta;
+    let [rl, rr] = sensors.eta_rate;
+    // Δi_k as rows.
+    let di = |k: usize, eta: &[f64]| -> Vec<f64> {
+        let mut r = eta.to_vec();
+        r[x[k]] += 1.0;
+        r
+    };
+    let (di_l, di_r) = (di(0, el), di(1, er));
+    let mut dv_d = vec![0.0; n];
+    let mut dv_c = vec![0.0; n];
+    for j in 0..n {
+        let eta_d = 0.5 * (el[j] - er[j]);
+        let rate_d = 0.5 * (rl[j] - rr[j]);
+        dv_d[j] = kp * eta_d + kd * rate_d - kc * 0.5 * (di_l[j] - di_r[j]);
+        dv_c[j] = -kc * 0.5 * (di_l[j] + di_r[j]);
+        a[(u, j)] = ki * eta_d;
+    }
+    if let Some(acc) = sensors.accel {
+        for (d, aj) in dv_d.iter_mut().zip(acc) {
+            *d += law.ka / vb * aj;
+        }
+    }
+    dv_d[u] += 1.0;
+    let dv_l: Vec<f64> = dv_c.iter().zip(&dv_d).map(|(c, d)| c + d).collect();
+    let dv_r: Vec<f64> = dv_c.iter().zip(&dv_d).map(|(c, d)| c - d).collect();
+    for (k, (dv, eta)) in [(&dv_l, el), (&dv_r, er)].into_iter().enumerate() {
+        for j in 0..n {
+            a[(x[k], j)] = (dv[j] - eta[j]) / lp.tau;
+        }
+        a[(x[k], x[k])] -= 1.0 / lp.tau;
+    }
+    [dv_l, dv_r]
 }

@@ -9,6 +9,7 @@ use crate::studies::stability::girder::GirderMode;
 use crate::studies::stability::margins::{margins, Margins};
 use crate::studies::stability::vehicle::{min_damping, runnable, vehicle_of, VehiclePlant};
 use crate::studies::stability::Complex;
+use maglev_core::law::guidance::GuidanceParams;
 use maglev_core::law::state::StateParams;
 use serde::Serialize;
 
@@ -69,6 +70,10 @@ pub struct ScenarioReport {
     pub plant: Vec<PlantReport>,
     /// The state law's gains in scenario form (`[controller.state]`); null for other laws.
     pub gains: Option<StateParams>,
+    /// The guidance law's gains in scenario form (`[controller.guidance]`); absent without
+    /// one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub guidance_gains: Option<GuidanceParams>,
     /// Closed-loop poles of the continuous model with ideal sensors, `[re, im]` (1/s).
     pub ideal_poles: Vec<[f64; 2]>,
     /// Smallest `−re/|s|` over the poles other than the zero poles.
@@ -127,10 +132,11 @@ pub fn case_report(
     runnable(case, &v, &inner, law)?;
     let geometry = case.geometry;
     let (girder, coupled) = coupled(case, girder_modes)?.unzip();
-    let plant = VehiclePlant::new(&v, &inner, &law, geometry)?;
+    let guidance = case.guidance()?;
+    let plant = VehiclePlant::guided(&v, &inner, &law, guidance.as_ref(), geometry)?;
     let vd = plant.verdict()?;
     let critical = critical_mass(magnet_mass, |m| {
-        VehiclePlant::new(&build(m)?, &inner, &law, geometry)
+        VehiclePlant::guided(&build(m)?, &inner, &law, guidance.as_ref(), geometry)
     })?;
     let period = law.control_period(&inner, case.dt);
     let delay = DELAY_PERIODS * period;
@@ -196,6 +202,7 @@ pub fn case_report(
         magnet_mass_kg: magnet_mass,
         plant: plant_report,
         gains: law.state().copied(),
+        guidance_gains: guidance,
         ideal_poles: vd.poles.iter().map(|p| [p.re, p.im]).collect(),
         min_damping_ratio: min_damping(&vd.poles),
         delay_note: format!(

@@ -37,6 +37,7 @@ use super::report::{all_margins, DELAY_PERIODS};
 use super::vehicle::VehiclePlant;
 use crate::physics::vehicle::VehicleModel;
 use maglev_core::gap::Geometry;
+use maglev_core::law::guidance::GuidanceParams;
 use maglev_core::law::state::StateParams;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::{LawKind, Params};
@@ -84,6 +85,28 @@ pub fn place(
     }
 }
 
+/// The guidance law's gains from the same pole placement on the differential mode of a
+/// guidance pair on a bare lateral mass `mass` (kg), each magnet at `p0` (N): its lateral
+/// force is `−4·p0·x_d` (`x_d = (x_L − x_R)/2`, EMS) where a levitation magnet's is
+/// `2·p0·x`, so the mode is the bare levitation magnet of mass `mass/2`
+/// (`maglev_core::law::guidance`, docs/levitation.md).
+pub fn place_guidance(
+    mass: f64,
+    p0: f64,
+    inner: &Params,
+    base: &StateParams,
+    candidate: (f64, f64, f64),
+) -> GuidanceParams {
+    let s = place(0.5 * mass, p0, inner, base, candidate);
+    GuidanceParams {
+        kp: s.kp,
+        kd: s.kd,
+        ka: s.ka,
+        ki: s.ki,
+        kc: s.kc,
+    }
+}
+
 /// How a candidate fares: its worst target's shortfall (≤ 0: every target met) and which.
 #[derive(Clone, Debug)]
 pub struct Check {
@@ -103,8 +126,22 @@ pub fn check(
     geometry: Geometry,
     dt: f64,
 ) -> crate::Result<Check> {
+    check_guided(v, inner, law, None, geometry, dt, |_| true)
+}
+
+/// [`check`] with the guidance pairs under `guidance` (when given), counting the margins of
+/// the magnets `counted` names only (every pole counts).
+pub fn check_guided(
+    v: &VehicleModel,
+    inner: &Params,
+    law: &StateParams,
+    guidance: Option<&GuidanceParams>,
+    geometry: Geometry,
+    dt: f64,
+    counted: impl Fn(&str) -> bool,
+) -> crate::Result<Check> {
     let kind = LawKind::State(*law);
-    let plant = VehiclePlant::new(v, inner, &kind, geometry)?;
+    let plant = VehiclePlant::guided(v, inner, &kind, guidance, geometry)?;
     let poles = plant.poles()?;
     let max_re = poles.iter().map(|p| p.re).fold(f64::NEG_INFINITY, f64::max);
     let delay = DELAY_PERIODS * dt / law.periods(dt) as f64;
@@ -115,7 +152,7 @@ pub fn check(
             worst = (if x.is_nan() { f64::INFINITY } else { x }, what);
         }
     };
-    for m in &margins {
+    for m in margins.iter().filter(|m| counted(&m.magnet)) {
         let n = &m.magnet;
         if !m.stable_with_delay {
             consider(f64::INFINITY, format!("{n}: unstable with the delay"));
@@ -140,8 +177,9 @@ pub fn check(
         );
     }
     let headroom = law.v_max - inner.r0 * inner.i0;
+    let kp_max = guidance.map_or(law.kp, |g| g.kp.max(law.kp));
     Ok(Check {
-        within_supply: law.kp * 0.1 * inner.h0 <= headroom,
+        within_supply: kp_max * 0.1 * inner.h0 <= headroom,
         shortfall: worst.0,
         worst: worst.1,
         max_real_part: max_re,
@@ -166,9 +204,9 @@ pub fn design(
         // Measured: paper-4.2 under ems at 1000 kg, every candidate keeps 4 poles at 0.
         return Err(crate::Error::invalid(
             "controller.state.design",
-            "the design covers magnets without guidance (vehicle kind = \"unit\"): on a \
-             guided vehicle each guidance pair's common-mode integral is a pole at 0 that no \
-             gain moves, so the target max real part ≤ −1 1/s cannot be met; give the gains",
+            "on a guided vehicle each guidance pair's common-mode integral under the \
+             levitation law is a pole at 0 that no gain moves: give the pairs their own law, \
+             [controller.guidance] design = true (or its gains), docs/levitation.md",
         ));
     }
     let mass = v.m[(w.dof_z, w.dof_z)];
@@ -213,4 +251,175 @@ pub fn design(
             p0 / (mass * GRAVITY)
         ),
     ))
+}
+
+/// What a vehicle design starts from: gains given, or to be designed (from `base`'s timing
+/// and supply for the levitation law).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Want<T> {
+    Given(T),
+    Design,
+}
+
+/// The (r, ζ, ρ) candidates in the order they are tried (module docs).
+fn candidates() -> impl Iterator<Item = (f64, f64, f64)> {
+    CANDIDATE_R.into_iter().flat_map(|r| {
+        [0.7, 0.5, 0.9]
+            .into_iter()
+            .flat_map(move |z| [0.2, 0.1, 0.3].into_iter().map(move |rho| (r, z, rho)))
+    })
+}
+
+/// The levitation and guidance gains of a guided vehicle `v` (docs/levitation.md, "Design
+/// of a guided vehicle"): decentralised, one set per magnet kind.
+///
+/// 1. Levitation (when to be designed): each levitation candidate in order ([`place`] on
+///    the first wheel's vertical mass and load), with the guidance pairs under the first
+///    guidance candidate (or the given gains); the first whose levitation magnets meet every
+///    margin target and whose poles are left of the target is taken (preferring one within
+///    the supply).
+/// 2. Guidance (when to be designed): with those levitation gains, each guidance candidate
+///    in order ([`place_guidance`] on the first guided wheel's lateral mass); the first that
+///    meets every target on the whole vehicle — every pole, every magnet's margins — is the
+///    design (preferring one within the supply).
+///
+/// Every check is on the full linear vehicle ([`VehiclePlant::guided`]) with the delay of the
+/// margins; none found is an error naming the worst target of the best candidate.
+pub fn design_guided(
+    v: &VehicleModel,
+    inner: &Params,
+    base: &StateParams,
+    levitation: Want<StateParams>,
+    guidance: Want<GuidanceParams>,
+    geometry: Geometry,
+    dt: f64,
+) -> crate::Result<(StateParams, GuidanceParams)> {
+    let lev_wheel = v
+        .wheels
+        .first()
+        .ok_or_else(|| crate::Error::invalid("vehicle", "the state law's design needs a magnet"))?;
+    let (gw, guided) = v
+        .wheels
+        .iter()
+        .enumerate()
+        .find_map(|(i, w)| w.dof_y.map(|y| (i, y)))
+        .ok_or_else(|| {
+            crate::Error::invalid(
+                "controller.guidance",
+                "the vehicle has no guidance magnets (no lateral DOF)",
+            )
+        })?;
+    let (mz, my) = (
+        v.m[(lev_wheel.dof_z, lev_wheel.dof_z)],
+        v.m[(guided, guided)],
+    );
+    if mz <= 0.0 || my <= 0.0 {
+        return Err(crate::Error::invalid(
+            "vehicle.wheel_mass_kg",
+            "the state law's design needs magnets with mass (> 0)",
+        ));
+    }
+    let with_p0 = |p0: f64| Params { p0, ..*inner };
+    let (lev_inner, guide_inner) = (with_p0(v.p0[0]), with_p0(v.p0[gw]));
+    let guide_candidates: Vec<GuidanceParams> = match guidance {
+        Want::Given(g) => vec![g],
+        Want::Design => candidates()
+            .map(|c| place_guidance(my, guide_inner.p0, &guide_inner, base, c))
+            .collect(),
+    };
+    let first_guide = guide_candidates[0];
+    let is_lev = |n: &str| n.starts_with("lev");
+    let lev = match levitation {
+        Want::Given(l) => l,
+        Want::Design => {
+            let mut best: Option<(Check, StateParams)> = None;
+            let mut first_met = None;
+            let mut found = None;
+            for c in candidates() {
+                let law = place(mz, lev_inner.p0, &lev_inner, base, c);
+                let ch = check_guided(v, inner, &law, Some(&first_guide), geometry, dt, is_lev)?;
+                // Only the levitation loops' own margins decide here; the guidance gains
+                // (and with them the lateral poles) are chosen next.
+                let lev_short = ch.margins_shortfall(is_lev);
+                if lev_short <= 0.0 {
+                    if ch.within_supply {
+                        found = Some(law);
+                        break;
+                    }
+                    first_met.get_or_insert(law);
+                }
+                if best.as_ref().is_none_or(|b| lev_short < b.0.shortfall) {
+                    best = Some((
+                        Check {
+                            shortfall: lev_short,
+                            ..ch
+                        },
+                        law,
+                    ));
+                }
+            }
+            match found.or(first_met) {
+                Some(l) => l,
+                None => return Err(no_candidate("controller.state.design", best, mz, v.p0[0])),
+            }
+        }
+    };
+    let mut best: Option<(Check, GuidanceParams)> = None;
+    let mut first_met = None;
+    for g in guide_candidates {
+        let ch = check_guided(v, inner, &lev, Some(&g), geometry, dt, |_| true)?;
+        if ch.shortfall <= 0.0 {
+            if ch.within_supply {
+                return Ok((lev, g));
+            }
+            first_met.get_or_insert(g);
+        }
+        if best.as_ref().is_none_or(|b| ch.shortfall < b.0.shortfall) {
+            best = Some((ch, g));
+        }
+    }
+    match first_met {
+        Some(g) => Ok((lev, g)),
+        None => Err(no_candidate(
+            "controller.guidance.design",
+            best,
+            my,
+            v.p0[gw],
+        )),
+    }
+}
+
+impl Check {
+    /// The worst margin shortfall among the magnets `counted` names (the poles aside).
+    fn margins_shortfall(&self, counted: impl Fn(&str) -> bool) -> f64 {
+        let mut worst = f64::NEG_INFINITY;
+        for m in self.margins.iter().filter(|m| counted(&m.magnet)) {
+            if !m.stable_with_delay {
+                return f64::INFINITY;
+            }
+            let db = |x: Option<f64>| x.unwrap_or(f64::INFINITY);
+            for x in [
+                (GAIN_MARGIN_DB - db(m.gain_low_db)) / GAIN_MARGIN_DB,
+                (GAIN_MARGIN_DB - db(m.gain_high_db)) / GAIN_MARGIN_DB,
+                (PHASE_MARGIN_DEG - db(m.phase_deg)) / PHASE_MARGIN_DEG,
+                (m.sensitivity_peak.unwrap_or(f64::INFINITY) - MAX_SENSITIVITY) / MAX_SENSITIVITY,
+            ] {
+                worst = worst.max(if x.is_nan() { f64::INFINITY } else { x });
+            }
+        }
+        worst
+    }
+}
+
+/// The refusal of a design that found no candidate, naming `key` and the best's worst target.
+fn no_candidate<T>(key: &str, best: Option<(Check, T)>, mass: f64, p0: f64) -> crate::Error {
+    let worst = best.map_or(String::new(), |b| b.0.worst);
+    crate::Error::invalid(
+        key,
+        format!(
+            "no candidate meets every target (best misses {worst}); magnet {mass} kg, \
+             load {p0:.0} N ({:.2}·its weight)",
+            p0 / (mass * GRAVITY)
+        ),
+    )
 }

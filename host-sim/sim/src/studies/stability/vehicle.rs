@@ -42,6 +42,7 @@ use super::Complex;
 use crate::input::case::{Case, TrainCase};
 use crate::physics::vehicle::{Fig1, Unit, VehicleModel};
 use maglev_core::gap::{self, Geometry};
+use maglev_core::law::guidance::GuidanceParams;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::LawKind;
 use maglev_core::Params;
@@ -114,8 +115,17 @@ impl Verdict {
 /// run compiles it ([`crate::simulation::magnets::compile_law`]), so that no analysis judges a
 /// law that `maglev run` refuses (`vmax_V = 1e-300`).
 pub fn runnable(case: &Case, v: &VehicleModel, inner: &Params, law: LawKind) -> crate::Result<()> {
+    let guidance = case.guidance()?;
     for &p0 in &v.p0 {
         crate::simulation::magnets::compile_law(inner, law, p0, case.dt)?;
+        if let Some(g) = &guidance {
+            let magnet = Params {
+                p0,
+                dt: case.dt,
+                ..*inner
+            };
+            crate::simulation::magnets::compile_guidance(g, &law, &magnet)?;
+        }
     }
     Ok(())
 }
@@ -137,6 +147,19 @@ impl VehiclePlant {
         Self::sampled(v, inner, law, geometry, None)
     }
 
+    /// As [`VehiclePlant::new`], every guidance pair under the guidance law `guidance`
+    /// (`maglev_core::law::guidance`, [`super::magnet::write_guidance_rows`]) when given:
+    /// one integral per pair (`guide{N}.u`) instead of one per magnet. Needs the state law.
+    pub fn guided(
+        v: &VehicleModel,
+        inner: &Params,
+        law: &LawKind,
+        guidance: Option<&GuidanceParams>,
+        geometry: Geometry,
+    ) -> crate::Result<Self> {
+        Self::build(v, inner, law, guidance, geometry, None, &[])
+    }
+
     /// As [`VehiclePlant::new`], with the gap loop's reference delayed by `delay` (s, a
     /// first-order Padé, [`super::magnet::Slots::delay`]): the sampled loop's hold, for the
     /// design. Ignored under the paper's law.
@@ -147,7 +170,7 @@ impl VehiclePlant {
         geometry: Geometry,
         delay: Option<f64>,
     ) -> crate::Result<Self> {
-        Self::build(v, inner, law, geometry, delay, &[])
+        Self::build(v, inner, law, None, geometry, delay, &[])
     }
 
     /// As [`VehiclePlant::new`], the levitation magnets over the flexible girder of `modes`
@@ -161,13 +184,27 @@ impl VehiclePlant {
         geometry: Geometry,
         modes: &[GirderMode],
     ) -> crate::Result<Self> {
-        Self::build(v, inner, law, geometry, None, modes)
+        Self::build(v, inner, law, None, geometry, None, modes)
+    }
+
+    /// As [`VehiclePlant::on_girder`], the guidance pairs under `guidance`
+    /// ([`VehiclePlant::guided`]).
+    pub fn guided_on_girder(
+        v: &VehicleModel,
+        inner: &Params,
+        law: &LawKind,
+        guidance: Option<&GuidanceParams>,
+        geometry: Geometry,
+        modes: &[GirderMode],
+    ) -> crate::Result<Self> {
+        Self::build(v, inner, law, guidance, geometry, None, modes)
     }
 
     fn build(
         v: &VehicleModel,
         inner: &Params,
         law: &LawKind,
+        guidance: Option<&GuidanceParams>,
         geometry: Geometry,
         delay: Option<f64>,
         girder: &[GirderMode],
@@ -250,26 +287,53 @@ impl VehiclePlant {
             crate::Error::invalid(key, e.to_string())
         })?;
         let (gains, state_law) = (law.gap_loop(), law.state());
+        if guidance.is_some() && state_law.is_none() {
+            return Err(crate::Error::invalid(
+                "controller.guidance",
+                "needs law = \"state\" (the guidance law shares its timing and supply)",
+            ));
+        }
+        if let Some(g) = guidance {
+            g.validate().map_err(crate::input::case::guidance_error)?;
+        }
         let delay = delay.filter(|_| gains.is_some());
         let per = 2 + usize::from(gains.is_some()) + usize::from(delay.is_some());
         let nm = n + na;
-        // Per wheel its levitation magnet, and its guidance pair when it has a lateral DOF.
+        // Per wheel its levitation magnet, and its guidance pair when it has a lateral DOF;
+        // under the guidance law a pair has its coils and one integral.
+        let pair_states = if guidance.is_some() { 3 } else { 2 * per };
         let count: usize = v
             .wheels
             .iter()
             .map(|w| 1 + 2 * usize::from(w.dof_y.is_some()))
             .sum();
-        let ns = nm + per * count;
+        let ns = nm
+            + v.wheels
+                .iter()
+                .map(|w| per + pair_states * usize::from(w.dof_y.is_some()))
+                .sum::<usize>();
         let mut states: Vec<String> = (0..n).map(|i| format!("q[{i}]")).collect();
         states.extend(massive.iter().map(|i| format!("v[{i}]")));
-        let slot = |index: usize| {
-            let base = nm + per * index;
-            Slots {
-                x: base,
-                y: base + 1,
-                q: gains.map(|_| base + 2),
-                delay: delay.map(|d| (base + 3, d)),
-            }
+        // The next free state; a guidance law's right magnet shares its pair's integral.
+        let mut next = nm;
+        let mut slot = |shared: Option<usize>| {
+            let base = next;
+            let at = match shared {
+                Some(u) => Slots {
+                    x: base,
+                    y: u,
+                    q: None,
+                    delay: None,
+                },
+                None => Slots {
+                    x: base,
+                    y: base + 1,
+                    q: gains.map(|_| base + 2),
+                    delay: delay.map(|d| (base + 3, d)),
+                },
+            };
+            next += if shared.is_some() { 1 } else { per };
+            at
         };
 
         // The core's geometry, differentiated: gaps per metre, lateral force per unit force.
@@ -286,6 +350,8 @@ impl VehiclePlant {
         // State-law magnets read the gap's rate and the magnet's acceleration, which the
         // mechanical rows give: their rows are written after those.
         let mut state_magnets = Vec::new();
+        // Guidance pairs under the guidance law: both magnets' loop indices, slots and gaps.
+        let mut guided_pairs = Vec::new();
         let mut loops = Vec::with_capacity(count);
         for (w, (wh, &p0)) in v.wheels.iter().zip(&v.p0).enumerate() {
             let mut p = *inner;
@@ -298,8 +364,13 @@ impl VehiclePlant {
             if let Some(y) = wh.dof_y {
                 magnets.extend([("guideL", y, hl, dfy_dl), ("guideR", y, hr, dfy_dr)]);
             }
+            let mut pair_u = None;
             for (k, (name, dof, dh, df)) in magnets.into_iter().enumerate() {
-                let at = slot(loops.len());
+                // Under the guidance law the right magnet (k = 2) shares the left's integral.
+                let at = slot(pair_u.filter(|_| k == 2));
+                if guidance.is_some() && k == 1 {
+                    pair_u = Some(at.y);
+                }
                 // The gap reads the node and (levitation) the girder under it (Eq. 2).
                 let mut gap_terms = vec![(dof, dh / h0)];
                 if k == 0 {
@@ -310,6 +381,10 @@ impl VehiclePlant {
                 }
                 let dv = match state_law {
                     None => magnet::write_rows(&mut a, at, &gap_terms, &lp, gains)?,
+                    Some(_) if guidance.is_some() && k > 0 => {
+                        guided_pairs.push((loops.len(), at, dof, gap_terms, p, lp));
+                        Vec::new()
+                    }
                     Some(_) => {
                         state_magnets.push((loops.len(), at, dof, gap_terms, k == 0, p, lp));
                         Vec::new()
@@ -325,7 +400,11 @@ impl VehiclePlant {
                 });
                 f[(dof, at.x)] += df * 2.0 * p0;
                 states.push(format!("{name}{}.x", w + 1));
-                states.push(format!("{name}{}.y", w + 1));
+                match (guidance, k) {
+                    (Some(_), 1) => states.push(format!("guide{}.u", w + 1)),
+                    (Some(_), 2) => {}
+                    _ => states.push(format!("{name}{}.y", w + 1)),
+                }
                 if at.q.is_some() {
                     states.push(format!("{name}{}.q", w + 1));
                 }
@@ -356,13 +435,7 @@ impl VehiclePlant {
         }
         if let Some(law) = state_law {
             for (index, at, dof, gap_terms, levitation, p, lp) in state_magnets {
-                let (mut eta, mut eta_rate) = (vec![0.0; ns], vec![0.0; ns]);
-                for (j, c) in gap_terms {
-                    eta[j] += c;
-                    for (r, v) in eta_rate.iter_mut().zip(a.row(j).iter()) {
-                        *r += c * v;
-                    }
-                }
+                let (eta, eta_rate) = sensed(&a, &gap_terms);
                 // The levitation magnet's accelerometer: the DOF's velocity row derivative.
                 let accel: Option<Vec<f64>> = match massive.iter().position(|&i| i == dof) {
                     Some(ia) if levitation => Some(a.row(n + ia).iter().copied().collect()),
@@ -382,6 +455,41 @@ impl VehiclePlant {
                 };
                 loops[index].dv = magnet::write_state_rows(&mut a, at, &sensors, &lp, law, &p);
             }
+            for pair in guided_pairs.chunks_exact(2) {
+                let [(il, at_l, dof, gap_l, p, lp), (ir, at_r, _, gap_r, _, _)] = pair else {
+                    continue;
+                };
+                let Some(g) = guidance else { continue };
+                let ((eta_l, rate_l), (eta_r, rate_r)) = (sensed(&a, gap_l), sensed(&a, gap_r));
+                // The pair's lateral accelerometer: the DOF's velocity row derivative.
+                let accel: Option<Vec<f64>> = match massive.iter().position(|i| i == dof) {
+                    Some(ia) => Some(a.row(n + ia).iter().copied().collect()),
+                    None if g.ka != 0.0 => {
+                        return Err(crate::Error::invalid(
+                            "controller.guidance.ka_V_s2_per_m",
+                            "the lateral acceleration feedback (ka > 0) needs a magnet with \
+                             mass",
+                        ))
+                    }
+                    None => None,
+                };
+                let sensors = magnet::PairSensors {
+                    eta: [&eta_l, &eta_r],
+                    eta_rate: [&rate_l, &rate_r],
+                    accel: accel.as_deref(),
+                };
+                let [dl, dr] = magnet::write_guidance_rows(
+                    &mut a,
+                    [at_l.x, at_r.x],
+                    at_l.y,
+                    &sensors,
+                    lp,
+                    g,
+                    p,
+                );
+                loops[*il].dv = dl;
+                loops[*ir].dv = dr;
+            }
         }
         Ok(VehiclePlant {
             a,
@@ -399,6 +507,20 @@ impl VehiclePlant {
     pub fn verdict(&self) -> crate::Result<Verdict> {
         Ok(Verdict::of(self.poles()?))
     }
+}
+
+/// The gap `η = Σ c·state[j]` of `gap_terms` and its rate from the mechanical rows of `a`
+/// (exact: the analysis' ideal sensors), as rows over the state.
+fn sensed(a: &DMatrix<f64>, gap_terms: &[(usize, f64)]) -> (Vec<f64>, Vec<f64>) {
+    let ns = a.ncols();
+    let (mut eta, mut eta_rate) = (vec![0.0; ns], vec![0.0; ns]);
+    for &(j, c) in gap_terms {
+        eta[j] += c;
+        for (r, v) in eta_rate.iter_mut().zip(a.row(j).iter()) {
+            *r += c * v;
+        }
+    }
+    (eta, eta_rate)
 }
 
 /// The Fig. 1 vehicle `fig` with every wheel node's mass set to `mass` (kg), linearised.
@@ -507,9 +629,24 @@ pub fn vehicle_of(case: &Case) -> crate::Result<(VehicleModel, f64, Builder)> {
             });
             Ok((v, m0, build))
         }
+        TrainCase::Maglev { magnet_mass, .. } => {
+            // One carriage: the train's carriages share no spring or damper
+            // (`Train::from_cars`), so on a rigid rail the train's poles are one carriage's,
+            // each once per carriage.
+            let carriage = |m: f64| -> crate::Result<VehicleModel> {
+                let mut t = crate::physics::train::Train::fig6_with(
+                    &crate::input::case::fig6(m),
+                    1,
+                    GRAVITY,
+                )?;
+                Ok(t.cars.remove(0))
+            };
+            let m0 = *magnet_mass;
+            Ok((carriage(m0)?, m0, Box::new(carriage)))
+        }
         _ => Err(crate::Error::invalid(
             "vehicle.kind",
-            "stability --scenario needs a fig1 or unit vehicle (magnets to analyse)",
+            "stability --scenario needs a fig1, maglev or unit vehicle (magnets to analyse)",
         )),
     }
 }
@@ -523,5 +660,7 @@ pub fn min_damping(poles: &[Complex]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+#[cfg(test)]
+mod guided_tests;
 #[cfg(test)]
 mod tests;
