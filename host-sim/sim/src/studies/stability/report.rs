@@ -6,7 +6,10 @@
 use crate::input::case::Case;
 use crate::studies::stability::coupled::{coupled, Coupled};
 use crate::studies::stability::girder::GirderMode;
+use crate::studies::stability::headroom::{headroom, Headroom};
+use crate::studies::stability::marginal::{self, Honest, Kind};
 use crate::studies::stability::margins::{margins, Margins};
+use crate::studies::stability::multiloop::{vehicle_disk_margin, DiskMargin};
 use crate::studies::stability::vehicle::{min_damping, runnable, vehicle_of, VehiclePlant};
 use crate::studies::stability::Complex;
 use maglev_core::law::state::StateParams;
@@ -62,7 +65,12 @@ pub struct ScenarioReport {
     pub zero_poles: usize,
     pub note: String,
     pub max_real_part: f64,
+    /// The verdict is `stable` (no pole within its tolerance of zero or beyond).
     pub stable: bool,
+    /// `stable`, `marginal` or `unstable`, with the marginal poles and the modes that cause
+    /// them ([`crate::studies::stability::marginal`]).
+    pub verdict: Kind,
+    pub honest: Honest,
     pub critical_magnet_mass_kg: Option<f64>,
     pub gap_loop: Option<GainsReport>,
     /// Each magnet's plant.
@@ -77,6 +85,12 @@ pub struct ScenarioReport {
     pub delay_note: String,
     /// Each magnet's loop broken at its coil voltage, the others closed, the delay in series.
     pub margins: Vec<Margins>,
+    /// Every magnet's loop broken at once: the multi-loop disk margin, the same delay
+    /// ([`crate::studies::stability::multiloop`]).
+    pub disk_margin: DiskMargin,
+    /// The largest `|V|/V_max` in the linearised time response to the reference
+    /// disturbances ([`crate::studies::stability::headroom`]).
+    pub headroom: Headroom,
     /// The flexible span's bending modes under the magnets (null on a rigid guideway,
     /// [`crate::studies::stability::girder`]).
     pub girder_modes: Option<Vec<GirderMode>>,
@@ -129,6 +143,7 @@ pub fn case_report(
     let (girder, coupled) = coupled(case, girder_modes)?.unzip();
     let plant = VehiclePlant::new(&v, &inner, &law, geometry)?;
     let vd = plant.verdict()?;
+    let honest = marginal::honest(&plant.a, &plant.states, &vd.poles)?;
     let critical = critical_mass(magnet_mass, |m| {
         VehiclePlant::new(&build(m)?, &inner, &law, geometry)
     })?;
@@ -152,6 +167,8 @@ pub fn case_report(
         })
         .collect();
     let margins = all_margins(&plant, delay)?;
+    let disk_margin = vehicle_disk_margin(&plant, delay)?;
+    let headroom = headroom(case)?;
     let note = if vd.zero_poles > 0 {
         format!(
             "{} pole(s) with |s| < {ZERO_POLE:e} 1/s, expected: the paper's law holds each \
@@ -208,7 +225,11 @@ pub fn case_report(
         zero_poles: vd.zero_poles,
         note,
         max_real_part: vd.max_real_part,
-        stable: vd.stable,
+        stable: honest.verdict == Kind::Stable,
+        verdict: honest.verdict,
+        honest,
+        disk_margin,
+        headroom,
         critical_magnet_mass_kg: critical,
         gap_loop,
         girder_modes: girder,
