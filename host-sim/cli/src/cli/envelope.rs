@@ -23,7 +23,7 @@ pub fn parse_speeds(spec: &str) -> Result<Vec<f64>> {
         [a, b, n] => {
             let (a, b) = (num(a).ok_or_else(bad)?, num(b).ok_or_else(bad)?);
             let n: usize = n.trim().parse().map_err(|_| bad())?;
-            if n < 2 || n > 1000 || b <= a {
+            if !(2..=1000).contains(&n) || b <= a {
                 return Err(Error::invalid(
                     "--speeds",
                     format!("needs A < B and 2 ≤ N ≤ 1000, got {spec:?}"),

@@ -11,7 +11,9 @@
 //!   least, 20 s at most).
 //!
 //! # The model
-//! The state matrix is [`VehiclePlant`]'s on a rigid guideway. The rail enters every
+//! The state matrix is [`VehiclePlant`]'s, with the span's bending modes where the coupled
+//! analysis has them (standstill over spans, [`super::coupled`]), else on a rigid guideway.
+//! The rail enters every
 //! levitation gap as `+r/h0` (the core's `levitation_gap`, docs/model.md Eq. 2), and its
 //! rate the law's gap rate: the same terms a girder mode under the magnet gives
 //! ([`VehiclePlant::on_girder`], gap `−dh·φ·ξ/h0`). So the rail input is built as one
@@ -56,7 +58,8 @@ pub struct Headroom {
     pub method: &'static str,
 }
 
-const METHOD: &str = "the linearised closed loop on a rigid guideway, no supply clamp, exact \
+const METHOD: &str = "the linearised closed loop (with the coupled analysis' girder modes at \
+    standstill on spans, else on a rigid guideway), no supply clamp, exact \
     zero-order-hold steps of min(dt, 1 ms): the rail irregularity under every levitation \
     magnet at the case's speed over t_end (less its value at t = 0), and a step of −10 % of \
     the weight on the body's heave; V = R0·i0·(1 + Δv)";
@@ -88,7 +91,13 @@ impl RailPlant {
             .ok_or_else(|| crate::Error::invalid("controller", "needs a [controller] section"))?;
         let law = case.law()?;
         let nw = v.wheels.len();
-        let modes: Vec<GirderMode> = (0..nw)
+        // The span's own modes where the coupled analysis has them (standstill on spans).
+        let girder = match super::coupled::coupled(case, super::coupled::GIRDER_MODES)? {
+            Some((modes, _)) => modes,
+            None => Vec::new(),
+        };
+        let ng = girder.len();
+        let rail: Vec<GirderMode> = (0..nw)
             .map(|w| GirderMode {
                 span: 0,
                 n: w + 1,
@@ -100,8 +109,9 @@ impl RailPlant {
                 fe_vs_closed_form: 0.0,
             })
             .collect();
+        let modes: Vec<GirderMode> = girder.into_iter().chain(rail).collect();
         let full = VehiclePlant::on_girder(&v, &inner, &law, case.geometry, &modes)?;
-        let nv = v.m.nrows();
+        let nv = v.m.nrows() + ng;
         let q_of = |j: usize| format!("q[{}]", nv + j);
         let v_of = |j: usize| format!("v[{}]", nv + j);
         let index = |name: &str| {
@@ -158,11 +168,16 @@ fn zoh(a: &DMatrix<f64>, b: &DMatrix<f64>, h: f64) -> (DMatrix<f64>, DMatrix<f64
 
 /// The largest `|V|` of the response to `input(t)` over `steps` steps of `h` from rest:
 /// `(V, magnet index, t)`.
+/// `ẋ = A·x + B·u`, `Δv = F·x + D·u`, by reference.
+struct System<'a> {
+    a: &'a DMatrix<f64>,
+    b: &'a DMatrix<f64>,
+    f: &'a DMatrix<f64>,
+    d: &'a DMatrix<f64>,
+}
+
 fn peak_response(
-    a: &DMatrix<f64>,
-    b: &DMatrix<f64>,
-    f: &DMatrix<f64>,
-    d: &DMatrix<f64>,
+    System { a, b, f, d }: System,
     v_base: f64,
     h: f64,
     steps: usize,
@@ -226,9 +241,18 @@ pub fn headroom(case: &Case) -> crate::Result<Headroom> {
     let zero_d = DMatrix::zeros(rp.f.nrows(), 1);
     out.push(peak(
         "load_step",
-        peak_response(&rp.a, &force, &rp.f, &zero_d, v_base, h, steps, &|_| {
-            DVector::from_element(1, w)
-        }),
+        peak_response(
+            System {
+                a: &rp.a,
+                b: &force,
+                f: &rp.f,
+                d: &zero_d,
+            },
+            v_base,
+            h,
+            steps,
+            &|_| DVector::from_element(1, w),
+        ),
     ));
     if case.speed > 0.0 {
         let passage = crate::setup::Passage::new(case)?;
@@ -249,7 +273,18 @@ pub fn headroom(case: &Case) -> crate::Result<Headroom> {
         };
         out.push(peak(
             "irregularity",
-            peak_response(&rp.a, &rp.b, &rp.f, &rp.d, v_base, h, steps, &input),
+            peak_response(
+                System {
+                    a: &rp.a,
+                    b: &rp.b,
+                    f: &rp.f,
+                    d: &rp.d,
+                },
+                v_base,
+                h,
+                steps,
+                &input,
+            ),
         ));
     }
     let ratio = vmax.map(|m| out.iter().map(|p| p.peak_V / m).fold(0.0, f64::max));
