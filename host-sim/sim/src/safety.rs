@@ -28,6 +28,11 @@ pub mod skid;
 pub const GAP_LIMIT: f64 = 0.0;
 const GAP_SOURCE: &str = "geometry: the magnet touches its rail at a gap of 0 (docs/model.md §2); no published minimum running gap for an EMS magnet was found (docs/safety.md)";
 
+/// The largest gap change `|h − h0|/h0` inside the linear analysis' range: there the
+/// neglected second-order term of the force `F ∝ (i/h)²` (`3η²` against the linear `2η`)
+/// reaches 15 % of the linear one (docs/levitation.md "Supply headroom").
+pub const LINEAR_GAP_LIMIT: f64 = 0.1;
+
 /// The car body's peak vertical acceleration limit (m/s²).
 pub const BODY_ACCEL_LIMIT: f64 = 1.3;
 const BODY_ACCEL_SOURCE: &str = "EN 1990:2002/A1:2005 Annex A2, A2.4.4.3.1, Table A2.9: b_v = 1.3 m/s² for a 'good' level of passenger comfort (the value as widely cited; the standard's text was not checked here, docs/safety.md)";
@@ -163,10 +168,27 @@ pub struct MaglevFigures {
     pub saturated_longest: Option<Figure>,
     /// Every levitation magnet's smallest gap, along the train.
     pub levitation_gap_per_magnet: Vec<MagnetGap>,
+    /// Whether the run stayed where the linear analysis (`maglev stability`) holds: no
+    /// coil at ±V_max and every gap within [`LINEAR_GAP_LIMIT`] of h0. Reported, not judged.
+    pub linear_range: LinearRange,
     /// The magnets' landings on their skids (docs/contact.md); set by the run
     /// ([`SafetyReport::with_skids`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skid_contact: Option<skid::SkidFigures>,
+}
+
+/// summary.json `safety.maglev.linear_range` ([`MaglevFigures::linear_range`]).
+#[derive(Serialize, Debug, Clone, PartialEq)]
+pub struct LinearRange {
+    /// Neither limit below was crossed.
+    pub within: bool,
+    /// Some coil spent time at ±V_max (the longest: `saturated_longest`).
+    pub saturated: bool,
+    /// The largest `|h − h0|/h0` of any gap, where and when, and [`LINEAR_GAP_LIMIT`].
+    pub gap_deviation_max: f64,
+    pub at: String,
+    pub t_s: f64,
+    pub gap_deviation_limit: f64,
 }
 
 /// Q/P, not computed.
@@ -266,6 +288,8 @@ struct MagnetTrack {
     node: usize,
     guided: bool,
     lev: Extreme,
+    /// The largest `|h/h0 − 1|` of its gaps, and which (index into [`SIDES`]).
+    deviation: (Extreme, usize),
     /// Guidance left and right.
     guide: [Extreme; 2],
     /// Levitation, left, right: peak |i|, peak |V|, saturated steps.
@@ -376,6 +400,7 @@ impl Safety {
                     node,
                     guided: dofs[i].0.is_some(),
                     lev: Extreme::LOW,
+                    deviation: (Extreme::HIGH, 0),
                     guide: [Extreme::LOW; 2],
                     current: [Extreme::HIGH; 3],
                     voltage: [Extreme::HIGH; 3],
@@ -430,6 +455,13 @@ impl Recorder for Safety {
                     track.lev.lower(hz, t);
                     track.guide[0].lower(hl, t);
                     track.guide[1].lower(hr, t);
+                    let sides = if track.guided { 3 } else { 1 };
+                    for (k, h) in [hz, hl, hr].into_iter().enumerate().take(sides) {
+                        let d = (h / *h0 - 1.0).abs();
+                        if d > track.deviation.0.value {
+                            track.deviation = (Extreme { value: d, t }, k);
+                        }
+                    }
                     if let Some(coil) = coils.get(i) {
                         // As summary.json's coils: saturation is counted per step, not at t = 0.
                         for (k, c) in coil.iter().enumerate() {
@@ -598,7 +630,19 @@ impl Safety {
         } else {
             (None, None, None)
         };
+        let widest = first_max(ms.iter(), |m| m.deviation.0.value).expect("some magnet");
+        let saturated = saturated_longest.as_ref().is_some_and(|f| f.value > 0.0);
+        let gap_deviation_max = widest.deviation.0.value;
+        let linear_range = LinearRange {
+            within: !saturated && gap_deviation_max <= LINEAR_GAP_LIMIT,
+            saturated,
+            gap_deviation_max,
+            at: format!("{}.{}", wheel(widest.node), SIDES[widest.deviation.1]),
+            t_s: widest.deviation.0.t,
+            gap_deviation_limit: LINEAR_GAP_LIMIT,
+        };
         MaglevFigures {
+            linear_range,
             levitation_gap_min,
             guidance_gap_min,
             collision_steps,

@@ -4,6 +4,7 @@
 pub mod accelerogram;
 pub mod bands;
 pub mod control;
+pub mod envelope;
 pub mod ground;
 pub mod hil;
 pub mod irregularity;

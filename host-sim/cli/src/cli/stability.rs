@@ -10,6 +10,7 @@ use crate::studies::stability::discrete::{self, Step};
 use crate::studies::stability::gap_loop::GapLoopPlant;
 use crate::studies::stability::gauss;
 use crate::studies::stability::inner_loop::Loop;
+use crate::studies::stability::marginal::{self, Kind};
 use crate::studies::stability::plant::{rigid_growth_rate, Plant, Suspension};
 use crate::studies::stability::report::{scenario_report, ScenarioReport};
 use crate::studies::stability::Complex;
@@ -45,9 +46,17 @@ pub struct Args {
     #[arg(long = "girder-modes", default_value_t = crate::studies::stability::coupled::GIRDER_MODES)]
     pub girder_modes: usize,
     /// With `--scenario`: find the value of this scenario key (e.g. `bridge.mass_t_per_m`)
-    /// in `--range` where the coupled model's max_real_part crosses zero.
+    /// in `--range` where the coupled model's verdict turns unstable (a real part within the
+    /// eigen-solver's error of zero is marginal, no crossing).
     #[arg(long, requires = "range", requires = "scenario")]
     pub critical: Option<String>,
+    /// With `--scenario`: the speed envelope instead, one time run per speed, `A:B:N` (m/s,
+    /// N speeds from A to B) or one speed; JSON on stdout (docs/levitation.md "Speed").
+    #[arg(long, requires = "scenario", conflicts_with = "critical")]
+    pub speeds: Option<String>,
+    /// With `--speeds`: write the envelope's figure (SVG) to this file.
+    #[arg(long, requires = "speeds")]
+    pub plot: Option<std::path::PathBuf>,
     /// The search range of `--critical`: LO HI.
     #[arg(long, num_args = 2, value_names = ["LO", "HI"], allow_negative_numbers = true)]
     pub range: Option<Vec<f64>>,
@@ -242,6 +251,9 @@ pub fn run(args: Args) -> crate::Result<()> {
             args.ref_nsub.max(1),
         )?);
     }
+    if let (Some(name), Some(speeds)) = (&args.scenario, &args.speeds) {
+        return super::envelope::run(name, &args.sets, speeds, args.plot.as_deref());
+    }
     if let (Some(name), Some(key), Some(range)) = (&args.scenario, &args.critical, &args.range) {
         let base = crate::studies::design::load(name, &args.sets)?;
         let r = crate::studies::stability::coupled::critical(
@@ -289,7 +301,7 @@ pub fn scenario_table(r: &ScenarioReport) -> String {
     let mut out = format!(
         "scenario                   {} (geometry {}, law {}, magnet node mass {} kg)\n\
          states                     {}\n\
-         stable                     {} (max real part {:.6} 1/s)\n\
+         verdict                    {} (max real part {:.6} 1/s)\n\
          zero poles                 {}\n\
          critical magnet mass       {}\n\
          vehicle poles (1/s)        {}\n",
@@ -298,7 +310,7 @@ pub fn scenario_table(r: &ScenarioReport) -> String {
         r.law,
         r.magnet_mass_kg,
         r.states,
-        r.stable,
+        r.verdict.as_str(),
         r.max_real_part,
         r.zero_poles,
         r.critical_magnet_mass_kg
@@ -333,6 +345,36 @@ pub fn scenario_table(r: &ScenarioReport) -> String {
             }
         );
     }
+    if r.verdict == Kind::Marginal {
+        out += &format!(
+            "marginal poles             {}\n",
+            marginal::describe(&r.honest)
+        );
+    }
+    let d = &r.disk_margin;
+    out += &match d.alpha {
+        Some(a) => format!(
+            "disk margin (all loops)    α {:.4}: ±{} dB with ±{} deg (at {} rad/s, {} loops)\n",
+            a,
+            db(d.gain_db),
+            db(d.phase_deg),
+            db(d.peak_rad_per_s),
+            d.loops.len()
+        ),
+        None => "disk margin (all loops)    none (unstable with the delay)\n".to_string(),
+    };
+    let h = &r.headroom;
+    for p in &h.disturbances {
+        out += &format!(
+            "headroom {:<18}peak |V| {:.1} V at {} ({:.3} s){}\n",
+            p.disturbance,
+            p.peak_V,
+            p.magnet,
+            p.t_s,
+            p.ratio
+                .map_or(String::new(), |x| format!(", |V|/V_max {x:.3}"))
+        );
+    }
     if let Some(g) = &r.gap_loop {
         out += &format!(
             "gap-loop gains             kp {:e}, kd {:e} s, tf {:e} s (sampled abscissa {:.6} 1/s at a {} s delay)\n\
@@ -364,8 +406,14 @@ pub fn scenario_table(r: &ScenarioReport) -> String {
             "coupled max real part      {:.6} 1/s (min damping ratio {:.6}, {})\n",
             c.max_real_part,
             c.min_damping_ratio,
-            if c.stable { "stable" } else { "UNSTABLE" }
+            c.verdict.as_str()
         );
+        if c.verdict == Kind::Marginal {
+            out += &format!(
+                "coupled marginal poles     {}\n",
+                marginal::describe(&c.honest)
+            );
+        }
     }
     out
 }

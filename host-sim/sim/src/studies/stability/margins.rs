@@ -98,33 +98,21 @@ impl BrokenLoop {
         self.at(Complex::new(0.0, w))
     }
 
-    /// The closed loop `κ = 1` with the delay as a (2, 2) Padé approximant: its state matrix.
+    /// The closed loop `κ = 1` with the delay as a (2, 2) Padé approximant: its state matrix
+    /// (the one-input [`super::multiloop::Cut`]'s).
     pub fn closed_with_pade(&self) -> DMatrix<f64> {
-        let n = self.a_ol.nrows();
-        if self.delay <= 0.0 {
-            return &self.a_ol + &self.b * self.f.transpose();
+        super::multiloop::Cut {
+            a_ol: self.a_ol.clone(),
+            b: DMatrix::from_column_slice(self.b.len(), 1, self.b.as_slice()),
+            f: DMatrix::from_row_slice(1, self.f.len(), self.f.as_slice()),
+            delay: self.delay,
         }
-        // e^(−sT) ≈ 1 + C_d(sI − A_d)⁻¹B_d: A_d = [[0, 1], [−12/T², −6/T]], B_d = [0, 1]ᵀ,
-        // C_d = [0, −12/T], D_d = 1. Input F·s, output into the coil through B.
-        let t = self.delay;
-        let mut a = DMatrix::zeros(n + 2, n + 2);
-        let bf = &self.b * self.f.transpose();
-        a.view_mut((0, 0), (n, n)).copy_from(&(&self.a_ol + &bf));
-        for i in 0..n {
-            a[(i, n + 1)] = self.b[i] * (-12.0 / t);
-        }
-        a[(n, n + 1)] = 1.0;
-        a[(n + 1, n)] = -12.0 / (t * t);
-        a[(n + 1, n + 1)] = -6.0 / t;
-        for j in 0..n {
-            a[(n + 1, j)] = self.f[j];
-        }
-        a
+        .closed_with_pade()
     }
 }
 
 /// The frequency grid (rad/s): 100 points a decade from 1e-2 to 1e6.
-fn grid() -> Vec<f64> {
+pub(super) fn grid() -> Vec<f64> {
     (0..=800)
         .map(|i| 10f64.powf(-2.0 + i as f64 / 100.0))
         .collect()

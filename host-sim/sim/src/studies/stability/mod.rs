@@ -21,14 +21,18 @@ pub mod coupled;
 pub mod design;
 pub mod discrete;
 pub mod eig;
+pub mod envelope;
 #[cfg(test)]
 mod fig6_check;
 pub mod gap_loop;
 pub mod gauss;
 pub mod girder;
+pub mod headroom;
 pub mod inner_loop;
 pub mod magnet;
+pub mod marginal;
 pub mod margins;
+pub mod multiloop;
 pub mod numerics;
 pub mod plant;
 pub mod report;

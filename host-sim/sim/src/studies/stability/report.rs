@@ -6,7 +6,10 @@
 use crate::input::case::Case;
 use crate::studies::stability::coupled::{coupled, Coupled};
 use crate::studies::stability::girder::GirderMode;
+use crate::studies::stability::headroom::{headroom, Headroom};
+use crate::studies::stability::marginal::{self, Honest, Kind};
 use crate::studies::stability::margins::{margins, Margins};
+use crate::studies::stability::multiloop::{vehicle_disk_margin, DiskMargin};
 use crate::studies::stability::vehicle::{min_damping, runnable, vehicle_of, VehiclePlant};
 use crate::studies::stability::Complex;
 use maglev_core::law::guidance::GuidanceParams;
@@ -63,7 +66,12 @@ pub struct ScenarioReport {
     pub zero_poles: usize,
     pub note: String,
     pub max_real_part: f64,
+    /// The verdict is `stable` (no pole within its tolerance of zero or beyond).
     pub stable: bool,
+    /// `stable`, `marginal` or `unstable`, with the marginal poles and the modes that cause
+    /// them ([`crate::studies::stability::marginal`]).
+    pub verdict: Kind,
+    pub honest: Honest,
     pub critical_magnet_mass_kg: Option<f64>,
     pub gap_loop: Option<GainsReport>,
     /// Each magnet's plant.
@@ -82,6 +90,12 @@ pub struct ScenarioReport {
     pub delay_note: String,
     /// Each magnet's loop broken at its coil voltage, the others closed, the delay in series.
     pub margins: Vec<Margins>,
+    /// Every magnet's loop broken at once: the multi-loop disk margin, the same delay
+    /// ([`crate::studies::stability::multiloop`]).
+    pub disk_margin: DiskMargin,
+    /// The largest `|V|/V_max` in the linearised time response to the reference
+    /// disturbances ([`crate::studies::stability::headroom`]).
+    pub headroom: Headroom,
     /// The flexible span's bending modes under the magnets (null on a rigid guideway,
     /// [`crate::studies::stability::girder`]).
     pub girder_modes: Option<Vec<GirderMode>>,
@@ -135,6 +149,7 @@ pub fn case_report(
     let guidance = case.guidance()?;
     let plant = VehiclePlant::guided(&v, &inner, &law, guidance.as_ref(), geometry)?;
     let vd = plant.verdict()?;
+    let honest = marginal::honest(&plant.a, &plant.states, &vd.poles)?;
     let critical = critical_mass(magnet_mass, |m| {
         VehiclePlant::guided(&build(m)?, &inner, &law, guidance.as_ref(), geometry)
     })?;
@@ -158,6 +173,8 @@ pub fn case_report(
         })
         .collect();
     let margins = all_margins(&plant, delay)?;
+    let disk_margin = vehicle_disk_margin(&plant, delay)?;
+    let headroom = headroom(case)?;
     let note = if vd.zero_poles > 0 {
         format!(
             "{} pole(s) with |s| < {ZERO_POLE:e} 1/s, expected: the paper's law holds each \
@@ -215,7 +232,11 @@ pub fn case_report(
         zero_poles: vd.zero_poles,
         note,
         max_real_part: vd.max_real_part,
-        stable: vd.stable,
+        stable: honest.verdict == Kind::Stable,
+        verdict: honest.verdict,
+        honest,
+        disk_margin,
+        headroom,
         critical_magnet_mass_kg: critical,
         gap_loop,
         girder_modes: girder,
