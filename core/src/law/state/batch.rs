@@ -147,7 +147,7 @@ impl Io<'_> {
             d_eta[l] = (eta_end[l] - eta[l]) * steps[l];
             d_acc[l] = (acc_end[l] - acc[l]) * steps[l];
         }
-        let (mut g, mut force, mut current) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
+        let mut force = [0.0; LANES];
         let mut saturated = [false; LANES];
         let mut bail = [false; LANES];
         // The sum of every checked value: finite iff each is (or a spurious overflow, which
@@ -164,7 +164,7 @@ impl Io<'_> {
                 let lo = v_min[l];
                 let above = if lo > v { lo } else { v };
                 let vc = if v_max[l] < above { v_max[l] } else { above };
-                let clamped = v > v_max[l] || v < lo;
+                let clamped = (v > v_max[l]) | (v < lo);
                 saturated[l] |= clamped;
                 // Conditional integration (anti-windup).
                 let next = integral[l] + ki_delta[l] * eta[l];
@@ -179,7 +179,7 @@ impl Io<'_> {
                 // The coil at `y = v − 1` to the gap `1 + η` (`Levitation::fast_update`).
                 let yc = vc - 1.0;
                 let h1 = 1.0 + eta[l];
-                bail[l] |= !(h1 > 0.0 && h1 <= fast_h[l]);
+                bail[l] |= !((h1 > 0.0) & (h1 <= fast_h[l]));
                 let ec = h1 - 1.0;
                 let num = (yc - ec) - x[l] * (one_kpd[l] + ec);
                 let den = one_ca1[l] + ca[l] * ec;
@@ -189,8 +189,6 @@ impl Io<'_> {
                 y[l] = yc - kih[l] * (x[l] + x1);
                 v1[l] = (1.0 + y[l]) - kpv[l] * x1;
                 force[l] = gl * gl;
-                current[l] = gl * (1.0 + ec);
-                g[l] = gl;
                 x[l] = x1;
                 cp[l] = ce[l];
                 ce[l] = ec;
@@ -217,10 +215,12 @@ impl Io<'_> {
                 rate_est: rate_est[l],
                 accel: acc_end[l],
             };
+            // The last period's coil outputs (`Levitation::fast_update`'s).
+            let g = 1.0 + x[l];
             self.out[i] = Output {
-                g: g[l],
+                g,
                 force: force[l],
-                current: current[l],
+                current: g * (1.0 + ce[l]),
                 voltage: v1[l],
                 status: if saturated[l] {
                     Status::VOLTAGE_SATURATED
