@@ -6,7 +6,8 @@
 //! Every law drives the paper's coil (Eq. 9, a [`Levitation`], whose per-unit outputs and SI
 //! conversion are every law's) and keeps its coil's [`State`] in its own state.
 
-use super::{Law, LawState, Measurement, Sensors};
+use super::state::StateLawState;
+use super::{Batch, Compiled, Law, LawState, Measurement, Sensors};
 use crate::gap::Geometry;
 use crate::guidance::{self, PairOutput};
 use crate::levitation::{Levitation, Output, State};
@@ -36,10 +37,20 @@ pub trait Control<S: Scalar> {
     /// The period (s) at which the law updates the coil voltage.
     fn control_period(&self) -> f64;
 
-    /// `Some(coil)` when every update is the paper's law's `coil.update` on
-    /// [`Control::coil_state`] alone, so that a caller may run many magnets at once
-    /// ([`crate::levitation::batch`]); `None` (the default) otherwise.
-    fn batch(&self) -> Option<&Levitation<S>> {
+    /// How a caller may run many magnets under this law at once ([`Batch`]); `None` (the
+    /// default) when it may not.
+    fn batch(&self) -> Option<Batch<'_, S>> {
+        None
+    }
+
+    /// The state law's own states within a magnet's state, for a law whose
+    /// [`Control::batch`] is [`Batch::State`]; `None` (the default) otherwise.
+    fn state_law_state(_st: &Self::State) -> Option<&StateLawState<S>> {
+        None
+    }
+
+    /// [`Control::state_law_state`], to change.
+    fn state_law_state_mut(_st: &mut Self::State) -> Option<&mut StateLawState<S>> {
         None
     }
 
@@ -100,8 +111,22 @@ impl<S: Scalar> Control<S> for Law<S> {
     }
 
     #[inline]
-    fn batch(&self) -> Option<&Levitation<S>> {
-        self.is_paper().then_some(self.levitation())
+    fn batch(&self) -> Option<Batch<'_, S>> {
+        match &self.kind {
+            Compiled::Paper => Some(Batch::Coil(self.levitation())),
+            Compiled::State(l) => Some(Batch::State(l)),
+            Compiled::GapLoop(_) => None,
+        }
+    }
+
+    #[inline]
+    fn state_law_state(st: &LawState<S>) -> Option<&StateLawState<S>> {
+        Some(&st.state)
+    }
+
+    #[inline]
+    fn state_law_state_mut(st: &mut LawState<S>) -> Option<&mut StateLawState<S>> {
+        Some(&mut st.state)
     }
 
     fn equilibrium_state(&self, h: f64) -> LawState<S> {

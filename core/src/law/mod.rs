@@ -37,7 +37,7 @@ pub mod state;
 
 pub use control::Control;
 pub use field::Field;
-pub use properties::Sensors;
+pub use properties::{Batch, Sensors};
 
 use crate::gap::Geometry;
 use crate::gap_control::{GapLoop, GapParams, GapState};

@@ -3,11 +3,24 @@
 //! (the simulator's magnets, the stability model, the firmware, the C API) ask these
 //! questions instead of matching on [`LawKind`].
 
-use super::state::StateParams;
+use super::state::{StateLaw, StateParams};
 use super::{LawKind, LawName, LawParams};
 use crate::gap::Geometry;
 use crate::gap_control::GapParams;
-use crate::levitation::{accurate, ParamError, Params, Scheme};
+use crate::levitation::{accurate, Levitation, ParamError, Params, Scheme};
+
+/// How a caller may run many magnets under a law at once, with the bits of one update per
+/// magnet ([`super::Control::batch`]).
+#[derive(Clone, Copy, Debug)]
+pub enum Batch<'a, S> {
+    /// Every update is the paper's law's `coil.update` on [`super::Control::coil_state`]
+    /// alone ([`crate::levitation::batch::update_batch`]).
+    Coil(&'a Levitation<S>),
+    /// Every update is [`StateLaw::update`] on [`super::Control::coil_state`] and
+    /// [`super::Control::state_law_state`], the magnet's acceleration read where the law's
+    /// sensors say ([`super::state::batch::update_batch`]).
+    State(&'a StateLaw<S>),
+}
 
 /// The measurements a law reads at the end of a step ([`super::Measurement`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -55,6 +55,8 @@ use crate::levitation::{
 use crate::scalar::Scalar;
 use core::f64::consts::PI;
 
+pub mod batch;
+
 /// The state law's gains and timing, SI (module docs); serde names carry the units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

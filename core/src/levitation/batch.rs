@@ -125,14 +125,17 @@ fn chunk(
             }
         };
     }
-    let one_kpd = c.map(|c| c.one_kpd);
-    let one_ca1 = c.map(|c| c.one_ca1);
-    let ca = c.map(|c| c.ca);
-    let cc = c.map(|c| c.c);
-    let kih = c.map(|c| c.kih);
-    let kpv = c.map(|c| c.kpv);
-    let inv_n = c.map(|c| c.inv_n);
-    let v_lim = c.map(|c| c.v_max);
+    let CoilLanes {
+        one_kpd,
+        one_ca1,
+        ca,
+        c: cc,
+        kih,
+        kpv,
+        inv_n,
+        v_max: v_lim,
+        ..
+    } = CoilLanes::of(c);
     let mut s = [0.0; LANES];
     let mut event = [false; LANES];
     for k in 1..=n_sub {
@@ -176,6 +179,38 @@ fn chunk(
             voltage: v[l],
             status: Status::default(),
         };
+    }
+}
+
+/// The coefficients of `N` coils side by side, a lane per coil (their fields of the same
+/// names): for the batches here and in [`crate::law::state::batch`].
+pub(crate) struct CoilLanes<const N: usize> {
+    pub one_kpd: [f64; N],
+    pub one_ca1: [f64; N],
+    pub ca: [f64; N],
+    pub c: [f64; N],
+    pub kih: [f64; N],
+    pub kpv: [f64; N],
+    pub inv_n: [f64; N],
+    pub v_max: [f64; N],
+    /// [`Levitation::fast_update`]'s straight line runs for a gap `0 < h ≤ fast_h`.
+    pub fast_h: [f64; N],
+}
+
+impl<const N: usize> CoilLanes<N> {
+    /// The coefficients of the coils `c`.
+    pub(crate) fn of(c: [&Levitation<f64>; N]) -> Self {
+        CoilLanes {
+            one_kpd: c.map(|c| c.one_kpd),
+            one_ca1: c.map(|c| c.one_ca1),
+            ca: c.map(|c| c.ca),
+            c: c.map(|c| c.c),
+            kih: c.map(|c| c.kih),
+            kpv: c.map(|c| c.kpv),
+            inv_n: c.map(|c| c.inv_n),
+            v_max: c.map(|c| c.v_max),
+            fast_h: c.map(|c| c.fast_h),
+        }
     }
 }
 

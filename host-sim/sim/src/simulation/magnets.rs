@@ -3,8 +3,8 @@
 //! (`n_sub`) interpolating the gap inside the step — under any [`maglev_core::Law`], or any
 //! other law behind the core's open interface [`maglev_core::Control`] (a law written outside
 //! the core runs here unchanged: `CoreMagnets::with_laws`). Calls the core; never a host copy
-//! of a law. What differs between laws (which sensors they read, whether their updates batch)
-//! is asked of the law.
+//! of a law. What differs between laws (which sensors they read, whether and how their updates
+//! batch, [`maglev_core::law::Batch`]) is asked of the law.
 
 use super::{Magnets, Settings, Start, WheelGaps};
 use crate::physics::train::Train;
@@ -13,6 +13,8 @@ use crate::{Error, Result};
 use maglev_core::gap::Geometry;
 use maglev_core::guidance;
 use maglev_core::law::guidance::{GuidanceLaw, GuidanceParams, GuidanceState, PairMeasurement};
+use maglev_core::law::state::{batch as state_batch, StateLaw, StateLawState};
+use maglev_core::law::Batch;
 use maglev_core::levitation::batch::update_batch;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::levitation::{Output, State};
@@ -66,10 +68,19 @@ pub fn compile_guidance(
 enum Pending {
     #[default]
     None,
-    /// In `mag_st` ([`CoreMagnets::paper_batch`]).
+    /// In `mag_st` and `law_st` ([`CoreMagnets::batched`]).
     Batch,
     /// In `trial`.
     General,
+}
+
+/// How every wheel's magnets run at once ([`Batch`], the same for every wheel).
+#[derive(Clone, Copy, PartialEq)]
+enum Batched {
+    /// The paper's law: `update_batch` on the coils.
+    Coil,
+    /// The state law: `state_batch::update_batch` on the coils and the laws' states.
+    State,
 }
 
 /// The law of one magnet wheel as a run compiles it: `controller` with the wheel's static load
@@ -100,13 +111,21 @@ pub struct CoreMagnets<L: Control<f64> = Law<f64>> {
     build: Builder<L>,
     ctl: Vec<WheelCtl<L>>,
     /// Per magnet (levitation, guidance left, right of each wheel): its controller, state
-    /// and per-unit gap, for the interleaved update of the paper's law.
+    /// and per-unit gap, for the interleaved update of the paper's law ([`Batched::Coil`];
+    /// empty otherwise).
     mags: Vec<Levitation<f64>>,
-    /// The committed inner states in that order (the wheels' `lev_state.inner`,
+    /// The state law of each magnet in that order ([`Batched::State`]; empty otherwise).
+    state_laws: Vec<StateLaw<f64>>,
+    /// The committed coil states in that order (the wheels' `lev_state.inner`,
     /// `pair.left.inner`, `pair.right.inner`, refreshed on every commit) and the trial.
     mag_committed: Vec<State<f64>>,
     mag_st: Vec<State<f64>>,
+    /// The state law's own states, committed and trial, in that order ([`Batched::State`]).
+    law_committed: Vec<StateLawState<f64>>,
+    law_st: Vec<StateLawState<f64>>,
     mag_h: Vec<f64>,
+    /// Per magnet its acceleration `a/g` where its law reads one, else 0.
+    mag_a: Vec<f64>,
     mag_out: Vec<Output<f64>>,
     /// The trial of the general path (one entry per wheel); the paper batch's trial is the
     /// inner states in `mag_st` (its filters `q` stay the committed ones).
@@ -120,8 +139,8 @@ pub struct CoreMagnets<L: Control<f64> = Law<f64>> {
     accels_y: Vec<f64>,
     /// Which trial the last `forces` left.
     pending: Pending,
-    /// Whether every wheel's law batches ([`Control::batch`], asked once).
-    batches: bool,
+    /// How every wheel's law batches, if they all do alike ([`Control::batch`], asked once).
+    batch: Option<Batched>,
     status: Status,
     geometry: Geometry,
 }
@@ -156,16 +175,20 @@ impl<L: Control<f64>> CoreMagnets<L> {
             build: Box::new(build),
             ctl: Vec::new(),
             mags: Vec::new(),
+            state_laws: Vec::new(),
             mag_committed: Vec::new(),
             mag_st: Vec::new(),
+            law_committed: Vec::new(),
+            law_st: Vec::new(),
             mag_h: Vec::new(),
+            mag_a: Vec::new(),
             mag_out: Vec::new(),
             trial: Vec::new(),
             trial_out: Vec::new(),
             coils: Vec::new(),
             accels_y: Vec::new(),
             pending: Pending::None,
-            batches: false,
+            batch: None,
             status: Status::default(),
             geometry: Geometry::default(),
         }
@@ -205,15 +228,28 @@ impl<L: Control<f64>> CoreMagnets<L> {
             });
         }
         self.accels_y = vec![0.0; ctl.len()];
-        let mags: Vec<Levitation<f64>> = ctl
-            .iter()
-            .flat_map(|c| [*c.law.batch().unwrap_or(c.law.coil()); 3])
-            .collect();
-        let n = mags.len();
-        self.mags = mags;
+        let batch = batched(&ctl);
+        let n = 3 * ctl.len();
+        self.mags.clear();
+        self.state_laws.clear();
+        for c in &ctl {
+            match c.law.batch() {
+                Some(Batch::Coil(lev)) if batch == Some(Batched::Coil) => {
+                    self.mags.extend([*lev; 3]);
+                }
+                Some(Batch::State(l)) if batch == Some(Batched::State) => {
+                    self.state_laws.extend([*l; 3]);
+                }
+                _ => {}
+            }
+        }
         self.mag_committed = vec![State::default(); n];
         self.mag_st = vec![State::default(); n];
+        let laws = if batch == Some(Batched::State) { n } else { 0 };
+        self.law_committed = vec![StateLawState::default(); laws];
+        self.law_st = vec![StateLawState::default(); laws];
         self.mag_h = vec![0.0; n];
+        self.mag_a = vec![0.0; n];
         self.mag_out = vec![Output::default(); n];
         self.trial = Vec::with_capacity(ctl.len());
         self.trial_out = Vec::with_capacity(ctl.len());
@@ -228,9 +264,7 @@ impl<L: Control<f64>> CoreMagnets<L> {
             })
             .collect();
         self.pending = Pending::None;
-        self.batches = ctl
-            .iter()
-            .all(|c| c.law.batch().is_some() && c.guide.is_none());
+        self.batch = batch;
         self.ctl = ctl;
         self.status = Status::default();
         self.geometry = s.geometry;
@@ -238,7 +272,7 @@ impl<L: Control<f64>> CoreMagnets<L> {
         Ok(())
     }
 
-    /// `mag_committed` from the wheels' committed states.
+    /// `mag_committed` (and `law_committed`) from the wheels' committed states.
     fn gather_committed(&mut self) {
         for (c, st) in self.ctl.iter().zip(self.mag_committed.chunks_exact_mut(3)) {
             st.copy_from_slice(&[
@@ -247,28 +281,60 @@ impl<L: Control<f64>> CoreMagnets<L> {
                 *L::coil_state(&c.pair[1]),
             ]);
         }
+        for (c, st) in self.ctl.iter().zip(self.law_committed.chunks_exact_mut(3)) {
+            for (s, m) in st.iter_mut().zip([&c.lev_state, &c.pair[0], &c.pair[1]]) {
+                if let Some(l) = L::state_law_state(m) {
+                    *s = *l;
+                }
+            }
+        }
     }
 
-    /// The paper's law on every magnet at once ([`update_batch`]: the bits of one
-    /// `Levitation::update` per magnet), the guidance pairs' net forces by the core's
+    /// Every magnet at once by its law's batch ([`update_batch`], [`state_batch`]: the bits
+    /// of one update per magnet), the guidance pairs' net forces by the core's
     /// [`guidance::update_with`] on the outputs. Finite gaps only (the per-unit guidance gaps
     /// `1 ± d` are then formed as the core forms them).
     ///
-    /// The trial inner states stay in `mag_st` ([`Pending::Batch`]); `commit` takes them.
-    fn paper_batch(&mut self, gaps_next: &[WheelGaps], out: &mut [(f64, f64)]) {
+    /// The trial states stay in `mag_st` and `law_st` ([`Pending::Batch`]); `commit` takes
+    /// them.
+    fn batched(
+        &mut self,
+        batch: Batched,
+        gaps_next: &[WheelGaps],
+        accels: &[f64],
+        out: &mut [(f64, f64)],
+    ) {
         let n = self.ctl.len();
         self.mag_st.copy_from_slice(&self.mag_committed);
-        for ((c, &(hz, dy)), h) in self
+        for (((c, &(hz, dy)), h), (a, &accel)) in self
             .ctl
             .iter()
             .zip(gaps_next)
             .zip(self.mag_h.chunks_exact_mut(3))
+            .zip(self.mag_a.chunks_exact_mut(3).zip(accels))
         {
             let h0 = c.law.coil().params().h0;
             let d = dy / h0;
             h.copy_from_slice(&[hz / h0, 1.0 + d, 1.0 - d]);
+            // The guidance magnets read their gaps alone (`Control::update_pair`).
+            a[0] = if c.accel { accel / GRAVITY } else { 0.0 };
         }
-        update_batch(&self.mags, &mut self.mag_st, &self.mag_h, &mut self.mag_out);
+        match batch {
+            Batched::Coil => {
+                update_batch(&self.mags, &mut self.mag_st, &self.mag_h, &mut self.mag_out);
+            }
+            Batched::State => {
+                self.law_st.copy_from_slice(&self.law_committed);
+                state_batch::update_batch(
+                    &self.state_laws,
+                    &mut self.mag_st,
+                    &mut self.law_st,
+                    &self.mag_h,
+                    &self.mag_a,
+                    &mut self.mag_out,
+                );
+            }
+        }
         let mut status = self.status;
         for (((c, &(_, dy)), o), out) in self
             .ctl
@@ -352,10 +418,9 @@ impl<L: Control<f64>> Magnets for CoreMagnets<L> {
         self.pending = Pending::None;
         self.status = Status::default();
         let finite = gaps_next.iter().all(|g| g.0.is_finite() && g.1.is_finite());
-        if finite && self.batches {
-            self.paper_batch(gaps_next, out);
-        } else {
-            self.general(gaps_next, accels, out);
+        match self.batch {
+            Some(batch) if finite => self.batched(batch, gaps_next, accels, out),
+            _ => self.general(gaps_next, accels, out),
         }
         Ok(())
     }
@@ -374,7 +439,16 @@ impl<L: Control<f64>> Magnets for CoreMagnets<L> {
                     *L::coil_state_mut(&mut c.pair[0]) = st[1];
                     *L::coil_state_mut(&mut c.pair[1]) = st[2];
                 }
+                for (c, st) in self.ctl.iter_mut().zip(self.law_st.chunks_exact(3)) {
+                    let [left, right] = &mut c.pair;
+                    for (m, s) in [&mut c.lev_state, left, right].into_iter().zip(st) {
+                        if let Some(l) = L::state_law_state_mut(m) {
+                            *l = *s;
+                        }
+                    }
+                }
                 self.mag_committed.copy_from_slice(&self.mag_st);
+                self.law_committed.copy_from_slice(&self.law_st);
                 for ((c, o), coil) in self
                     .ctl
                     .iter()
@@ -414,6 +488,18 @@ impl<L: Control<f64>> Magnets for CoreMagnets<L> {
     }
 }
 
+/// How every wheel's law batches, if all alike: the paper's law on every wheel, or the state
+/// law on every wheel whose states hold the state law's ([`Control::state_law_state`]).
+fn batched<L: Control<f64>>(ctl: &[WheelCtl<L>]) -> Option<Batched> {
+    // A guided wheel's lateral pair runs the guidance law, one wheel at a time.
+    let of = |c: &WheelCtl<L>| match c.law.batch().filter(|_| c.guide.is_none())? {
+        Batch::Coil(_) => Some(Batched::Coil),
+        Batch::State(_) => L::state_law_state(&c.lev_state).map(|_| Batched::State),
+    };
+    let first = of(ctl.first()?)?;
+    ctl.iter().all(|c| of(c) == Some(first)).then_some(first)
+}
+
 /// A wheel's three magnets' coils in SI from their law's outputs `[levitation, left, right]`.
 fn coils<L: Control<f64>>(law: &L, o: &[Output<f64>]) -> [Coil; 3] {
     [0, 1, 2].map(|k| {
@@ -446,26 +532,54 @@ mod tests {
         (*s >> 11) as f64 / (1u64 << 52) as f64 - 1.0
     }
 
-    /// The paper batch (trial kept in `mag_st`, committed states cached in
-    /// `mag_committed`) gives the bits of the per-wheel path, forces and status, over 300
-    /// steps of three iterations on pseudo-random gaps, under both schemes; and a run that
-    /// switches path every step (as a non-finite gap would make it) gives the same bits too.
+    /// The batches (trial kept in `mag_st` and `law_st`, committed states cached in
+    /// `mag_committed` and `law_committed`) give the bits of the per-wheel path, forces,
+    /// status and coils, over 300 steps of three iterations on pseudo-random gaps and
+    /// accelerations: the paper's law under both schemes, and the state law (20 control
+    /// periods a step, a supply bound it saturates at); and a run that switches path every
+    /// step (as a non-finite gap would make it) gives the same bits too.
     #[test]
     fn batch_matches_the_per_wheel_path_across_commits() {
         let car = VehicleModel::fig1(&Fig1::default(), 9.81).unwrap();
         let train = Train::from_cars(vec![car]);
-        for scheme in [Scheme::Paper, Scheme::Accurate] {
-            let mut controller = Params::paper_wheel(1e-3);
+        let state = maglev_core::LawKind::State(maglev_core::law::state::StateParams {
+            kp: 51_600.0,
+            kd: 1_600.0,
+            ka: 40.0,
+            ki: 4_300.0,
+            kc: 10.0,
+            v_max: 60.0,
+            rate_hz: 10_000.0,
+            observer_hz: 300.0,
+            geometry: Geometry::Ems,
+        });
+        let cases = [
+            (
+                Scheme::Paper,
+                maglev_core::LawKind::Paper,
+                Geometry::Paper,
+                1e-3,
+            ),
+            (
+                Scheme::Accurate,
+                maglev_core::LawKind::Paper,
+                Geometry::Paper,
+                1e-3,
+            ),
+            (Scheme::Paper, state, Geometry::Ems, 2e-3),
+        ];
+        for (scheme, law, geometry, dt) in cases {
+            let mut controller = Params::paper_wheel(dt);
             controller.scheme = scheme;
             let h0 = controller.h0;
             let s = Settings {
                 speed: 100.0,
-                dt: 1e-3,
+                dt,
                 t_end: 0.3,
                 controller,
-                law: maglev_core::LawKind::Paper,
+                law,
                 guidance: None,
-                geometry: Geometry::Paper,
+                geometry,
                 tolerance: 1e-9,
                 max_iterations: 10,
                 midspan_x: 0.0,
@@ -474,7 +588,7 @@ mod tests {
             };
             let nw = train.wheels.len();
             let gaps0 = vec![(h0, 0.0); nw];
-            let accels = vec![0.0; nw];
+            let mut accels = vec![0.0; nw];
             let mut batch = started(&train, &gaps0, &s);
             let mut general = started(&train, &gaps0, &s);
             let mut mixed = started(&train, &gaps0, &s);
@@ -485,19 +599,21 @@ mod tests {
             );
             let mut seed = 0x2545_F491_4F6C_DD1D_u64;
             let mut gaps = gaps0.clone();
-            let mut moved = false;
+            let (mut moved, mut saturated) = (false, false);
             for step in 1..=300u32 {
                 for _ in 0..3 {
-                    for g in &mut gaps {
+                    for (g, a) in gaps.iter_mut().zip(&mut accels) {
                         *g = (
                             h0 * (1.0 + 0.2 * noise(&mut seed)),
                             0.3 * h0 * noise(&mut seed),
                         );
+                        *a = 3.0 * noise(&mut seed);
                     }
                     batch
                         .forces(step, 0.0, &gaps0, &gaps, &accels, &mut fb)
                         .unwrap();
                     assert!(batch.pending == Pending::Batch);
+                    saturated |= batch.status().contains(Status::VOLTAGE_SATURATED);
                     general.trial.clear();
                     general.trial_out.clear();
                     general.status = Status::default();
@@ -532,6 +648,7 @@ mod tests {
                 assert_eq!(batch.coils(), mixed.coils(), "step {step}");
             }
             assert!(moved, "the forces never left their static values");
+            assert_eq!(saturated, law != maglev_core::LawKind::Paper, "{law:?}");
         }
     }
 }
