@@ -6,10 +6,55 @@
 //! record's spectrum over the band): it sums the spectrum directly at Gauss–Legendre nodes,
 //! not by the FFT crate, and reads the histories from the written CSV.
 
+use std::path::Path;
 use std::process::Command;
 
 #[path = "../../sim/tests/bands_reference/mod.rs"]
 mod bands_reference;
+
+/// report.md with the wall-time cell of the "## Runs" table blanked (it is a measurement).
+fn without_wall_times(md: &str) -> String {
+    let mut in_runs = false;
+    md.lines()
+        .map(|l| {
+            if l.starts_with("## ") {
+                in_runs = l == "## Runs";
+            }
+            let cells: Vec<&str> = l.split('|').collect();
+            if in_runs && cells.len() > 4 && !l.starts_with("| train") && !l.starts_with("|---") {
+                let mut c = cells.clone();
+                c[3] = " ";
+                c.join("|")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Every file of two report directories, byte for byte (report.md without its wall times).
+fn assert_same_reports(a: &Path, b: &Path) {
+    let mut names: Vec<_> = std::fs::read_dir(a)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert!(names.len() >= 10, "{names:?}");
+    for name in names {
+        let (x, y) = (
+            std::fs::read(a.join(&name)).unwrap(),
+            std::fs::read(b.join(&name)),
+        );
+        let y = y.unwrap_or_else(|_| panic!("{name:?} missing from {}", b.display()));
+        if name == "report.md" {
+            let (x, y) = (String::from_utf8(x).unwrap(), String::from_utf8(y).unwrap());
+            assert_eq!(without_wall_times(&x), without_wall_times(&y), "report.md");
+        } else {
+            assert!(x == y, "{name:?} differs between 1 and 2 threads");
+        }
+    }
+}
 
 #[test]
 fn report_levels_agree_with_an_independent_analyser() {
@@ -20,6 +65,18 @@ fn report_levels_agree_with_an_independent_analyser() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // The two runs side by side and the receivers on two threads (the default) give the
+    // same bytes as everything on one.
+    let serial = out.with_extension("serial");
+    let _ = std::fs::remove_dir_all(&serial);
+    let o = Command::new(env!("CARGO_BIN_EXE_maglev"))
+        .args(["report", "paper-5", "--threads", "1", "--out"])
+        .arg(&serial)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_same_reports(&out, &serial);
+    let _ = std::fs::remove_dir_all(&serial);
     for f in [
         "report.md",
         "fig8.svg",

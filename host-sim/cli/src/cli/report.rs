@@ -22,6 +22,10 @@ pub struct Args {
     /// Override a scenario value in both runs (as `maglev run --set`; `train` is the report's).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
+    /// Threads: the two trains' runs side by side and the ground section's receivers shared
+    /// (1 to 64; the same bytes for every count).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u16).range(1..=64))]
+    pub threads: u16,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -33,11 +37,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         anyhow::bail!("report --set {s}: the report runs both trains; override another key");
     }
     let out = Staging::new(&args.out)?;
-    let mut runs = Vec::new();
-    for train in TRAINS {
-        let mut bar = Progress::run(&format!("report: {train}"));
-        runs.push(paper5::run_train(train, &args.sets, |f| bar.fraction(f))?);
-    }
+    let threads = usize::from(args.threads);
+    let runs = run_trains(&args.sets, threads)?;
     let maglev = paper5::levels(&runs[0])?;
     let wheel_rail = paper5::levels(&runs[1])?;
     for r in &runs {
@@ -51,7 +52,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     out.put("fig8.svg", &paper5::figure(&maglev, &wheel_rail)?)?;
     let mut md = paper5::markdown(&runs, &maglev, &wheel_rail, &args.sets);
     let start = std::time::Instant::now();
-    let ground = ground::analyse(&runs)?;
+    let ground = ground::analyse(&runs, threads)?;
     eprintln!(
         "maglev: report: ground section in {:.1} s wall",
         start.elapsed().as_secs_f64()
@@ -78,4 +79,31 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     eprintln!("maglev: report: wrote {}", args.out.display());
     Ok(())
+}
+
+/// Both trains' runs: side by side on two threads when `threads` ≥ 2 (each run is the same
+/// computation on its own data either way), one after the other otherwise; one bar for both.
+fn run_trains(sets: &[String], threads: usize) -> anyhow::Result<Vec<paper5::TrainRun>> {
+    let bar = std::sync::Mutex::new((Progress::run("report: both trains"), [0.0; 2]));
+    let progress = |i: usize, f: f64| {
+        if let Ok(mut b) = bar.lock() {
+            b.1[i] = f;
+            let mean = (b.1[0] + b.1[1]) / 2.0;
+            b.0.fraction(mean);
+        }
+    };
+    let one = |i: usize| paper5::run_train(TRAINS[i], sets, |f| progress(i, f));
+    let runs = if threads >= 2 {
+        std::thread::scope(|s| {
+            let h = s.spawn(|| one(1));
+            let first = one(0);
+            let second = h
+                .join()
+                .unwrap_or_else(|_| Err(maglev_sim::Error::numerical("report: a run panicked")));
+            vec![first, second]
+        })
+    } else {
+        vec![one(0), one(1)]
+    };
+    Ok(runs.into_iter().collect::<Result<Vec<_>, _>>()?)
 }

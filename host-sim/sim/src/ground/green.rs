@@ -58,7 +58,9 @@
 //! **Far away.** With damping, every contribution (the pole and both branch points) lies below
 //! the real axis, so W decays at least as fast as the slowest wave, the P wave:
 //! |W| ≲ x·e^{x·Im q_p}. Beyond x·|Im q_p| = 30 (e^{−30} = 9e-14, so |W| < 1e-8 for
-//! x < 1e5) W is returned as 0; this also bounds the work of one evaluation.
+//! x < 1e5) W is returned as 0; this also bounds the work of one evaluation. Far from the
+//! load the deformed contour of [`super::far`] is cheaper and more accurate (this
+//! quadrature's shrinking Q leaves ~1e-6 at x = 300); [`super::table`] uses it there.
 //!
 //! **Accuracy** (host-sim/sim/tests/ground_green.rs): the static limit, the Rayleigh far field
 //! at x = 200 and an independently written second evaluation of (G1) for x = 0.5 … 100,
@@ -167,8 +169,14 @@ impl Green {
         )))
     }
 
+    /// The branch points q_p = γκ, q_s = κ and κ² (module docs).
+    pub(super) fn branch_points(&self) -> (C, C, C) {
+        let kappa = self.kappa2.sqrt();
+        (self.gamma2.sqrt() * kappa, kappa, self.kappa2)
+    }
+
     /// F̃(q) and dF̃/dq.
-    fn rayleigh_function(&self, q: C) -> (C, C) {
+    pub(super) fn rayleigh_function(&self, q: C) -> (C, C) {
         let q2 = q * q;
         let np = csqrt(q2 - self.gamma2 * self.kappa2);
         let ns = csqrt(q2 - self.kappa2);
@@ -291,7 +299,9 @@ fn gk15(f: &impl Fn(f64) -> C, a: f64, b: f64) -> (C, f64) {
     (k * h, ((k - g) * h).norm())
 }
 
-fn adaptive(f: &impl Fn(f64) -> C, a: f64, b: f64, depth: u32) -> C {
+/// ∫_a^b f by Gauss–Kronrod 7/15, bisected while |K − G| > 1e-10·(|K| + 1e-3) (at most 40
+/// levels).
+pub(super) fn adaptive(f: &impl Fn(f64) -> C, a: f64, b: f64, depth: u32) -> C {
     let (k, err) = gk15(f, a, b);
     if err <= 1e-10 * (k.norm() + 1e-3) || depth >= 40 {
         return k;

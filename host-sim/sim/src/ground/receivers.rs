@@ -19,11 +19,16 @@
 //!   circular convolution could bring the end of the padded window back onto the record.
 //!   host-sim/sim/tests/ground_receivers.rs checks that doubling M changes nothing visible.
 //! - **The Green's function once per frequency bin and distance.** W depends on
-//!   x = 2πfr/c_s only (green.rs, (G2)), so it is tabulated once on a uniform x grid and
-//!   interpolated (cubic Lagrange on W·e^{iRe(q_R)x}, the Rayleigh phase taken out, spacing
-//!   0.5) for every (bin, pier–receiver distance) pair.
+//!   x = 2πfr/c_s only (green.rs, (G2)), so it is read from one table per soil
+//!   ([`super::table`]: within 1e-5 of the direct evaluation, W = 0 beyond its cut-off) for
+//!   every (bin, pier–receiver distance) pair; bins beyond the cut-off are skipped. The
+//!   table comes from a [`Tables`] cache the caller may keep across runs.
+//! - **Threads.** The receivers are independent: [`velocities_with`] and [`of_runs`] share
+//!   them among scoped threads in contiguous chunks; each receiver's arithmetic is the same on
+//!   any thread, so every count gives the same bits (no thread pool is kept).
 
 use super::green::{complex_shear_modulus, Green};
+use super::table::{Table, Tables};
 use crate::physics::fe::soil::Soil;
 use crate::probes::{Recorder, StepView};
 use crate::{Error, Result};
@@ -69,60 +74,6 @@ impl Recorder for BaseForces {
     }
 }
 
-/// W(x) tabulated on a uniform grid with the Rayleigh phase removed (module docs).
-struct Table {
-    step: f64,
-    /// W = 0 beyond this x ([`Green::negligible_beyond`]).
-    end: f64,
-    /// e^{i Re(q_R) x}·W(x) at x = i·step.
-    values: Vec<C>,
-    phase: f64,
-}
-
-/// Grid spacing of the table in x.
-const TABLE_STEP: f64 = 0.5;
-
-impl Table {
-    fn new(green: &Green, x_max: f64) -> Result<Self> {
-        use rayon::prelude::*;
-        let phase = green.rayleigh_pole()?.re;
-        let end = x_max.min(green.negligible_beyond());
-        let n = (end / TABLE_STEP).ceil() as usize + 3;
-        let values = (0..n)
-            .into_par_iter()
-            .map(|i| {
-                let x = i as f64 * TABLE_STEP;
-                green.scaled(x) * C::from_polar(1.0, phase * x)
-            })
-            .collect();
-        Ok(Table {
-            step: TABLE_STEP,
-            end,
-            values,
-            phase,
-        })
-    }
-
-    /// W(x) by cubic Lagrange interpolation (x within the table).
-    fn at(&self, x: f64) -> C {
-        if x > self.end {
-            return C::new(0.0, 0.0);
-        }
-        let u = x / self.step;
-        let i = (u.floor() as usize).clamp(1, self.values.len() - 3);
-        let t = u - i as f64;
-        let v = &self.values[i - 1..i + 3];
-        let w = [
-            -t * (t - 1.0) * (t - 2.0) / 6.0,
-            (t + 1.0) * (t - 1.0) * (t - 2.0) / 2.0,
-            -(t + 1.0) * t * (t - 2.0) / 2.0,
-            (t + 1.0) * t * (t - 1.0) / 6.0,
-        ];
-        let s = v[0] * w[0] + v[1] * w[1] + v[2] * w[2] + v[3] * w[3];
-        s * C::from_polar(1.0, -self.phase * x)
-    }
-}
-
 /// The padded FFT length for `n` samples at `dt` and a farthest pier `r_max` away on `soil`
 /// (module docs), and the Rayleigh speed it used.
 pub fn padded_length(n: usize, dt: f64, r_max: f64, soil: &Soil, green: &Green) -> Result<usize> {
@@ -140,7 +91,8 @@ pub fn padded_length(n: usize, dt: f64, r_max: f64, soil: &Soil, green: &Green) 
 
 /// The vertical velocity (m/s, up) at each receiver at each of the `n` samples, from the
 /// downward forces `forces[k][j]` (N) of piers at `piers[k]` (x, y in m), sampled at `dt`,
-/// on `soil`, with the FFT length `m` (at least [`padded_length`]'s; module docs).
+/// on `soil`, with the FFT length `m` (at least [`padded_length`]'s; module docs): on one
+/// thread with a table of its own ([`velocities_with`] takes both).
 pub fn velocities(
     soil: &Soil,
     dt: f64,
@@ -149,9 +101,25 @@ pub fn velocities(
     receivers: &[[f64; 2]],
     m: usize,
 ) -> Result<Vec<Vec<f64>>> {
-    let green = Green::new(soil.poisson, soil.damping)?;
-    let table = Table::new(&green, x_max(soil, dt, piers, receivers, m))?;
-    velocities_in(&table, soil, dt, forces, piers, receivers, m)
+    velocities_with(&mut Tables::new(), 1, soil, dt, forces, piers, receivers, m)
+}
+
+/// [`velocities`] with the table of W taken from (and left in) `tables`, the receivers
+/// shared among `threads` threads (the same bits for every count and every cache).
+#[allow(clippy::too_many_arguments)]
+pub fn velocities_with(
+    tables: &mut Tables,
+    threads: usize,
+    soil: &Soil,
+    dt: f64,
+    forces: &[Vec<f64>],
+    piers: &[[f64; 2]],
+    receivers: &[[f64; 2]],
+    m: usize,
+) -> Result<Vec<Vec<f64>>> {
+    let x = x_max(soil, dt, piers, receivers, m);
+    let table = tables.get(soil.poisson, soil.damping, x)?;
+    Record::new(soil, dt, forces, piers, m)?.at(table, receivers, threads)
 }
 
 /// The farthest pier–receiver distance (m).
@@ -169,85 +137,150 @@ fn x_max(soil: &Soil, dt: f64, piers: &[[f64; 2]], receivers: &[[f64; 2]], m: us
     2.0 * PI * (m / 2) as f64 * df * r_max(piers, receivers) / soil.shear_wave_velocity
 }
 
-/// [`velocities`] with the table of W given (one table serves every record that needs no
-/// larger x: its values do not depend on the record).
-fn velocities_in(
-    table: &Table,
-    soil: &Soil,
-    dt: f64,
-    forces: &[Vec<f64>],
-    piers: &[[f64; 2]],
-    receivers: &[[f64; 2]],
+/// One record's pier spectra, ready to be carried to any receiver.
+struct Record<'a> {
+    soil: &'a Soil,
+    piers: &'a [[f64; 2]],
+    n: usize,
     m: usize,
-) -> Result<Vec<Vec<f64>>> {
-    let n = forces.first().map_or(0, Vec::len);
-    if forces.len() != piers.len() || forces.iter().any(|f| f.len() != n) || n == 0 || m < n {
-        return Err(Error::invalid(
-            "ground",
-            "every pier needs one force history of the record's length",
-        ));
-    }
-    let dist = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]);
-    let bins = m / 2 + 1;
-    let df = 1.0 / (m as f64 * dt);
-    let mu = complex_shear_modulus(soil);
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fwd = planner.plan_fft_forward(m);
-    let inv = planner.plan_fft_inverse(m);
-    // Each pier's increments' spectrum, times iω/(1 − e^{−iωΔt}).
-    let mut spectra = Vec::with_capacity(piers.len());
-    for f in forces {
-        let mut d = vec![0.0; m];
-        let mut last = 0.0;
-        for (j, &p) in f.iter().enumerate() {
-            d[j] = p - last;
-            last = p;
+    df: f64,
+    /// Per pier, the increments' spectrum times iω/(1 − e^{−iωΔt}) (module docs).
+    spectra: Vec<Vec<C>>,
+}
+
+impl<'a> Record<'a> {
+    fn new(
+        soil: &'a Soil,
+        dt: f64,
+        forces: &[Vec<f64>],
+        piers: &'a [[f64; 2]],
+        m: usize,
+    ) -> Result<Self> {
+        let n = forces.first().map_or(0, Vec::len);
+        if forces.len() != piers.len() || forces.iter().any(|f| f.len() != n) || n == 0 || m < n {
+            return Err(Error::invalid(
+                "ground",
+                "every pier needs one force history of the record's length",
+            ));
         }
-        let mut s = fwd.make_output_vec();
-        fwd.process(&mut d, &mut s)
-            .map_err(|e| Error::numerical(format!("ground FFT: {e}")))?;
-        for (i, v) in s.iter_mut().enumerate() {
-            let w = 2.0 * PI * i as f64 * df;
-            *v *= if i == 0 {
-                C::new(1.0 / dt, 0.0)
-            } else {
-                C::new(0.0, w) / (1.0 - C::from_polar(1.0, -w * dt))
-            };
+        let df = 1.0 / (m as f64 * dt);
+        let fwd = RealFftPlanner::<f64>::new().plan_fft_forward(m);
+        let mut spectra = Vec::with_capacity(piers.len());
+        for f in forces {
+            let mut d = vec![0.0; m];
+            let mut last = 0.0;
+            for (j, &p) in f.iter().enumerate() {
+                d[j] = p - last;
+                last = p;
+            }
+            let mut s = fwd.make_output_vec();
+            fwd.process(&mut d, &mut s)
+                .map_err(|e| Error::numerical(format!("ground FFT: {e}")))?;
+            for (i, v) in s.iter_mut().enumerate() {
+                let w = 2.0 * PI * i as f64 * df;
+                *v *= if i == 0 {
+                    C::new(1.0 / dt, 0.0)
+                } else {
+                    C::new(0.0, w) / (1.0 - C::from_polar(1.0, -w * dt))
+                };
+            }
+            spectra.push(s);
         }
-        spectra.push(s);
+        Ok(Record {
+            soil,
+            piers,
+            n,
+            m,
+            df,
+            spectra,
+        })
     }
-    let mut out = Vec::with_capacity(receivers.len());
-    for q in receivers {
+
+    /// The velocities at `receivers`, shared among `threads` threads in contiguous chunks
+    /// (each receiver's arithmetic is the same whichever thread does it).
+    fn at(&self, table: &Table, receivers: &[[f64; 2]], threads: usize) -> Result<Vec<Vec<f64>>> {
+        if receivers.is_empty() {
+            return Ok(Vec::new());
+        }
+        let inv = RealFftPlanner::<f64>::new().plan_fft_inverse(self.m);
+        let chunk = receivers.len().div_ceil(threads.clamp(1, receivers.len()));
+        let one = |qs: &[[f64; 2]]| -> Result<Vec<Vec<f64>>> {
+            qs.iter().map(|q| self.receiver(table, &*inv, q)).collect()
+        };
+        let parts: Vec<Result<Vec<Vec<f64>>>> = std::thread::scope(|s| {
+            let handles: Vec<_> = receivers
+                .chunks(chunk)
+                .map(|qs| s.spawn(move || one(qs)))
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| {
+                    h.join()
+                        .unwrap_or_else(|_| Err(Error::numerical("ground: a thread panicked")))
+                })
+                .collect()
+        });
+        let mut out = Vec::with_capacity(receivers.len());
+        for p in parts {
+            out.extend(p?);
+        }
+        Ok(out)
+    }
+
+    /// One receiver's velocity: Σ over the piers of G·spectrum, inverse-transformed.
+    fn receiver(
+        &self,
+        table: &Table,
+        inv: &dyn realfft::ComplexToReal<f64>,
+        q: &[f64; 2],
+    ) -> Result<Vec<f64>> {
+        let bins = self.m / 2 + 1;
+        let mu = complex_shear_modulus(self.soil);
+        let c_s = self.soil.shear_wave_velocity;
         let mut v = vec![C::new(0.0, 0.0); bins];
-        for (p, s) in piers.iter().zip(&spectra) {
-            let r = dist(p, q);
+        for (p, s) in self.piers.iter().zip(&self.spectra) {
+            let r = (p[0] - q[0]).hypot(p[1] - q[1]);
             if r <= 0.0 {
                 return Err(Error::invalid("ground", "a receiver stands on a pier"));
             }
-            let scale = 1.0 / (2.0 * PI * r * mu);
-            for (i, vi) in v.iter_mut().enumerate() {
-                let x = 2.0 * PI * i as f64 * df * r / soil.shear_wave_velocity;
-                let g = if i == 0 {
-                    C::new(
-                        (1.0 - soil.poisson) / (2.0 * PI * r * soil.shear_modulus()),
-                        0.0,
-                    )
-                } else {
-                    table.at(x) * scale
-                };
-                *vi += g * s[i];
-            }
+            let g0 = (1.0 - self.soil.poisson) / (2.0 * PI * r * self.soil.shear_modulus());
+            v[0] += s[0] * g0;
+            let dx = 2.0 * PI * self.df * r / c_s;
+            add_pier(table, dx, C::new(1.0, 0.0) / (2.0 * PI * r * mu), s, &mut v);
         }
         // Real at 0 Hz and Nyquist (module docs); displacement down → velocity up: minus.
         v[0].im = 0.0;
         // M is a power of two (≥ 2): the last bin is the Nyquist bin.
         v[bins - 1].im = 0.0;
-        let mut t = vec![0.0; m];
+        let mut t = vec![0.0; self.m];
         inv.process(&mut v, &mut t)
             .map_err(|e| Error::numerical(format!("ground inverse FFT: {e}")))?;
-        out.push(t[..n].iter().map(|x| -x / m as f64).collect());
+        Ok(t[..self.n].iter().map(|x| -x / self.m as f64).collect())
     }
-    Ok(out)
+}
+
+/// Bins between exact phases of the recurrence in [`add_pier`].
+const REANCHOR: usize = 256;
+
+/// v[i] += scale·W(i·dx)·s[i] for the bins i ≥ 1 below the table's cut-off. The phase
+/// e^{−i·Re(q_R)·x} that [`Table::shifted`] leaves out is carried from bin to bin by one
+/// complex product, set exactly every [`REANCHOR`] bins (its round-off stays below 1e-13).
+fn add_pier(table: &Table, dx: f64, scale: C, s: &[C], v: &mut [C]) {
+    let bins = v.len();
+    let stop = table
+        .end()
+        .map_or(bins, |e| ((e / dx).ceil() as usize).clamp(1, bins));
+    let turn = C::from_polar(1.0, -table.phase() * dx);
+    let mut z = scale;
+    for i in 1..stop {
+        let x = i as f64 * dx;
+        z = if i % REANCHOR == 1 {
+            scale * C::from_polar(1.0, -table.phase() * x)
+        } else {
+            z * turn
+        };
+        v[i] += table.shifted(x) * z * s[i];
+    }
 }
 
 /// ground.csv: `t` and one column `ground{N}.vz` per receiver (m/s, up), shortest
@@ -271,23 +304,27 @@ pub fn csv(t: &[f64], v: &[Vec<f64>]) -> String {
 }
 
 /// The receivers' velocities of a viaduct run: piers at x = k·`span` (k = 0 … piers − 1,
-/// y = 0), the recorded base forces, padding by [`padded_length`].
+/// y = 0), the recorded base forces, padding by [`padded_length`]; one thread, a table of its
+/// own ([`of_runs`] shares one).
 pub fn of_run(
     soil: &Soil,
     span: f64,
     rec: &BaseForces,
     receivers: &[[f64; 2]],
 ) -> Result<Vec<Vec<f64>>> {
-    Ok(of_runs(soil, span, &[rec], receivers)?.remove(0))
+    Ok(of_runs(&mut Tables::new(), soil, span, &[rec], receivers, 1)?.remove(0))
 }
 
-/// [`of_run`] for several runs on the same soil and viaduct (the report's two trains), with
-/// one table of W for all: the same numbers as run by run, the table built once.
+/// [`of_run`] for several runs on the same soil and viaduct (the report's two trains): one
+/// table of W from `tables` for all, each run's receivers shared among `threads` threads
+/// (the same bits as run by run, on one thread, with a new cache).
 pub fn of_runs(
+    tables: &mut Tables,
     soil: &Soil,
     span: f64,
     recs: &[&BaseForces],
     receivers: &[[f64; 2]],
+    threads: usize,
 ) -> Result<Vec<Vec<Vec<f64>>>> {
     let green = Green::new(soil.poisson, soil.damping)?;
     let mut jobs = Vec::with_capacity(recs.len());
@@ -308,11 +345,11 @@ pub fn of_runs(
         .iter()
         .map(|(p, dt, m)| x_max(soil, *dt, p, receivers, *m))
         .fold(0.0, f64::max);
-    let table = Table::new(&green, x)?;
+    let table = tables.get(soil.poisson, soil.damping, x)?;
     recs.iter()
         .zip(&jobs)
         .map(|(rec, (piers, dt, m))| {
-            velocities_in(&table, soil, *dt, &rec.forces, piers, receivers, *m)
+            Record::new(soil, *dt, &rec.forces, piers, *m)?.at(table, receivers, threads)
         })
         .collect()
 }

@@ -12,6 +12,7 @@ use crate::bands::Band;
 use crate::ground::criteria::{self, FTA_GENERAL_VDB};
 use crate::ground::levels::{self, vdb, ReceiverLevels};
 use crate::ground::receivers;
+use crate::ground::table::Tables;
 use crate::plot::{self, map, Plot, Series};
 use crate::studies::paper5::TrainRun;
 use crate::{Error, Result};
@@ -42,14 +43,23 @@ pub struct TrainGround {
 }
 
 /// The receivers' velocities, levels and map of each run (the same soil and viaduct: one
-/// table of the Green's function serves all, [`receivers::of_runs`]).
-pub fn analyse(runs: &[TrainRun]) -> Result<Vec<TrainGround>> {
+/// table of the Green's function serves all, [`receivers::of_runs`]), the receivers shared
+/// among `threads` threads (the same bits for every count).
+pub fn analyse(runs: &[TrainRun], threads: usize) -> Result<Vec<TrainGround>> {
     let Some(first) = runs.first() else {
         return Ok(Vec::new());
     };
     let points = receivers_of(first.span);
     let bases: Vec<_> = runs.iter().map(|r| &r.base).collect();
-    let v = receivers::of_runs(&first.soil, first.span, &bases, &points.0)?;
+    let mut tables = Tables::new();
+    let v = receivers::of_runs(
+        &mut tables,
+        &first.soil,
+        first.span,
+        &bases,
+        &points.0,
+        threads,
+    )?;
     runs.iter()
         .zip(v)
         .map(|(r, v)| train_ground(r, &points, v))
