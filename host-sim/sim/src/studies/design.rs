@@ -28,10 +28,12 @@ fn design_vehicle(case: &Case) -> Result<VehicleModel> {
             )
         }
         TrainCase::Unit(u) => VehicleModel::unit(u, GRAVITY),
-        TrainCase::Forces(_) | TrainCase::WheelRail { .. } => Err(Error::invalid(
-            "controller.law",
-            "a train without magnets has no gains to design",
-        )),
+        TrainCase::Forces(_) | TrainCase::WheelRail { .. } | TrainCase::HighSpeed { .. } => {
+            Err(Error::invalid(
+                "controller.law",
+                "a train without magnets has no gains to design",
+            ))
+        }
     }
 }
 
