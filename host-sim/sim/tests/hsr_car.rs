@@ -94,6 +94,8 @@ impl Rails for Dip {
             z: self.z(x),
             dy: 0.0,
             compliance: 0.0,
+            dz: 0.0,
+            damping: 0.0,
         };
         [p, p]
     }

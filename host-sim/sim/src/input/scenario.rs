@@ -428,6 +428,7 @@ pub struct TrackSection {
     pub rail_mass_kg_per_m: f64,
     pub pad_stiffness_N_per_m: f64,
     pub pad_spacing_m: f64,
+    pub pad_damping_N_s_per_m: f64,
     pub slab_bending_stiffness_N_m2: f64,
     pub slab_mass_kg_per_m: f64,
     pub mortar_modulus_N_per_m2: f64,

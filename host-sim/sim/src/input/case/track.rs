@@ -38,6 +38,7 @@ pub(super) fn track(t: &TrackSection) -> Result<TrackCase> {
         rail_mass: t.rail_mass_kg_per_m,
         pad_stiffness: t.pad_stiffness_N_per_m,
         pad_spacing: t.pad_spacing_m,
+        pad_damping: t.pad_damping_N_s_per_m,
         slab_ei: t.slab_bending_stiffness_N_m2,
         slab_mass: t.slab_mass_kg_per_m,
         mortar_modulus: t.mortar_modulus_N_per_m2,

@@ -20,7 +20,8 @@
 //!
 //! Rail i's head at x is at y = y_i(x) + y_g, z = z_i(x) + z_g: the irregularity of that rail
 //! and the girder's motion at the rail point (x, track_y ± b, rail_z), with
-//! ẏ = v·y_i'(x) + ẏ_g (y_i' by a central difference over ±1 mm). The track's compliance
+//! ẏ = v·y_i'(x) + ẏ_g and ż = v·z_i'(x) + ż_g (the derivatives by central differences over
+//! ±1 mm). The track's compliance
 //! under the wheel is [`super::track::TrackSupport::compliance_at`]; the static approach is
 //! taken at its mean over a fastening bay.
 //!
@@ -76,24 +77,28 @@ impl RailTrain {
     }
 
     /// The rail points (left, right) of a wheelset at x with the girder's motion `g` (y, z)
-    /// under each rail and its lateral rates `dyg`, at speed `v` (module docs; the rails as
+    /// under each rail and its rates `dg`, at speed `v` (module docs; the rails as
     /// [`RailIrregularity::left`] and [`RailIrregularity::right`] combine the components).
-    fn points(&self, x: f64, g: [[f64; 2]; 2], dyg: [f64; 2], v: f64) -> [RailPoint; 2] {
-        let compliance = self.support.as_ref().map_or(0.0, |s| s.compliance_at(x));
-        let ([vz, a, c, gauge], [da, dg]) = match &self.irregularity {
-            None => ([0.0; 4], [0.0; 2]),
+    fn points(&self, x: f64, g: [[f64; 2]; 2], dg: [[f64; 2]; 2], v: f64) -> [RailPoint; 2] {
+        let (compliance, damping) = self
+            .support
+            .as_ref()
+            .map_or((0.0, 0.0), |s| (s.compliance_at(x), s.track.wheel_damping()));
+        let ([vz, a, c, gauge], d) = match &self.irregularity {
+            None => ([0.0; 4], [0.0; 4]),
             Some(r) => {
                 let h = 1e-3;
                 let (up, down) = (r.all(x + h), r.all(x - h));
-                let d = |i: usize| v * (up[i] - down[i]) / (2.0 * h);
-                (r.all(x), [d(1), d(3)])
+                (r.all(x), [0, 1, 2, 3].map(|i| v * (up[i] - down[i]) / (2.0 * h)))
             }
         };
         let side = |s: f64, k: usize| RailPoint {
             y: a + s * 0.5 * gauge + g[k][0],
             z: vz + s * 0.5 * c + g[k][1],
-            dy: da + s * 0.5 * dg + dyg[k],
+            dy: d[1] + s * 0.5 * d[3] + dg[k][0],
+            dz: d[0] + s * 0.5 * d[2] + dg[k][1],
             compliance,
+            damping,
         };
         [side(1.0, 0), side(-1.0, 1)]
     }
@@ -151,7 +156,7 @@ impl Rails for StepRails<'_> {
         let at = |side: usize| {
             let (g0, g1) = (r.girder0[w + side], r.girder1[w + side]);
             let g = [g0[0] + tau * (g1[0] - g0[0]), g0[1] + tau * (g1[1] - g0[1])];
-            (g, (g1[0] - g0[0]) / r.dt)
+            (g, [(g1[0] - g0[0]) / r.dt, (g1[1] - g0[1]) / r.dt])
         };
         let ((gl, dl), (gr, dr)) = (at(0), at(1));
         r.spec.points(x, [gl, gr], [dl, dr], v)

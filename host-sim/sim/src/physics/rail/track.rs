@@ -23,6 +23,10 @@
 //!   under the same point load, Hetényi's w0/P = β_s/(2 k_m): an upper bound, as the pads
 //!   spread the load over about 1/β of rail.
 //!
+//! The pads' damping reaches the wheel as a damper on its normal approach
+//! ([`SlabTrack::wheel_damping`]), in parallel with the series of Hertz and the track (the
+//! track is far softer than Hertz, so its deflection rate is nearly the approach's).
+//!
 //! The deck carries the track's mass per metre ([`SlabTrack::mass_per_m`]: both rails, the
 //! slab and the mortar), and every wheel force reaches it at the wheel's rail point.
 
@@ -50,6 +54,9 @@ pub struct SlabTrack {
     /// Fastening spacing a, m.
     #[serde(rename = "pad_spacing_m")]
     pub pad_spacing: f64,
+    /// Vertical damping of one fastening, N·s/m.
+    #[serde(rename = "pad_damping_N_s_per_m")]
+    pub pad_damping: f64,
     /// Slab bending stiffness E·I (about the lateral axis), N·m².
     #[serde(rename = "slab_bending_stiffness_N_m2")]
     pub slab_ei: f64,
@@ -85,6 +92,7 @@ impl SlabTrack {
             rail_mass: 60.64,
             pad_stiffness: 6.0e7,
             pad_spacing: 0.6,
+            pad_damping: 5.0e4,
             slab_ei: 3.55e10 * w * h * h * h / 12.0,
             slab_mass: 2500.0 * w * h,
             mortar_modulus: 8.0e9 * w / t,
@@ -110,13 +118,14 @@ impl SlabTrack {
             }
         }
         for (key, v) in [
+            ("pad_damping_N_s_per_m", self.pad_damping),
             ("slab_mass_kg_per_m", self.slab_mass),
             ("mortar_mass_kg_per_m", self.mortar_mass),
         ] {
             if !(v.is_finite() && (0.0..1e6).contains(&v)) {
                 return Err(Error::invalid(
                     format!("track.{key}"),
-                    format!("must be in [0, 1e6) kg/m, got {v}"),
+                    format!("must be in [0, 1e6) (SI: kg/m, N·s/m), got {v}"),
                 ));
             }
         }
@@ -138,6 +147,16 @@ impl SlabTrack {
     /// (m, 0 ≤ s ≤ a) from a fastening, m/N (module docs).
     pub fn rail_compliance(&self, s: f64) -> Result<f64> {
         discrete_beam_compliance(self.rail_ei, self.pad_stiffness, self.pad_spacing, s)
+    }
+
+    /// The pads' damping as a wheel feels it, N·s/m: the smeared damping c_p/a per metre
+    /// weighted by the square of the Winkler rail's deflection shape
+    /// e^{−β|x|}(cos βx + sin βx), whose integral is 3/(2β): c = (c_p/a)·3/(2β), the damper
+    /// that dissipates what the pads do when the rail moves in that shape (module docs).
+    pub fn wheel_damping(&self) -> f64 {
+        let modulus = self.pad_stiffness / self.pad_spacing;
+        let beta = (modulus / (4.0 * self.rail_ei)).powf(0.25);
+        self.pad_damping / self.pad_spacing * 1.5 / beta
     }
 
     /// The slab's compliance on its mortar, m/N (module docs).

@@ -81,6 +81,10 @@ pub struct RailPoint {
     pub z: f64,
     /// dy_r/dt, m/s.
     pub dy: f64,
+    /// dz_r/dt, m/s.
+    pub dz: f64,
+    /// The track's damping on the wheel's normal approach, N·s/m (0: none).
+    pub damping: f64,
     /// The track's compliance under the wheel (m/N, in series with Hertz along the normal;
     /// 0: a rigid rail). docs/cars.md, "The track on the girder".
     pub compliance: f64,
@@ -189,7 +193,7 @@ impl WheelsetContact {
     pub fn forces(&self, m: &Motion, v: f64, rails: &[RailPoint; 2]) -> ContactForces {
         let w = &self.wheelset;
         let [y, z, phi, psi] = m.q;
-        let [dy, _dz, dphi, dpsi] = m.dq;
+        let [dy, dz, dphi, dpsi] = m.dq;
         let (cone, g) = (self.cone, self.g);
         let mut out = ContactForces::default();
         for (i, s) in [(0usize, 1.0f64), (1, -1.0)] {
@@ -198,7 +202,12 @@ impl WheelsetContact {
             let delta = s * cone;
             let radius_change = s * w.conicity * rel;
             let d = self.d0 + (radius_change - (z - r.z) - s * w.b * phi) * cone.cos();
-            let normal = hertz_in_series(d, g, r.compliance);
+            let normal = if d > 0.0 {
+                let rate = (s * w.conicity * (dy - r.dy) - (dz - r.dz) - s * w.b * dphi) * cone.cos();
+                (hertz_in_series(d, g, r.compliance) + r.damping * rate).max(0.0)
+            } else {
+                0.0
+            };
             let creepage = Creepage {
                 x: -radius_change / w.r0 - s * w.b * dpsi / v,
                 y: (dy - r.dy + w.r0 * dphi) / v - psi,
