@@ -20,6 +20,8 @@
 //! vehicle–bridge literature; **the standards' texts were not read**. The filters the
 //! standards apply before these steps (e.g. a 20 Hz low-pass) are not applied.
 
+use crate::physics::rail::run::RailOutcome;
+use crate::safety::Figure;
 use realfft::RealFftPlanner;
 
 /// One judged index.
@@ -196,4 +198,147 @@ pub fn sperling(a: &[f64], dt: f64, direction: Direction) -> Index {
         SPERLING_LIMIT,
         "Sperling, GB/T 5599-2019 Annex E, as cited",
     )
+}
+
+/// The running-safety figures of a run of 3-D high-speed cars (summary.json
+/// `safety.high_speed`), each the worst over the train's wheels, wheelsets or cars, with its
+/// limit, the limit's source and the verdict.
+#[derive(serde::Serialize, Debug, Clone, PartialEq)]
+pub struct HighSpeedFigures {
+    /// Y/Q ([`derailment_quotient`]), the worst wheel.
+    pub derailment_quotient: Figure,
+    /// ΔP/P ([`unloading`]), the worst wheel.
+    pub unloading_max: Figure,
+    /// ΣY against Prud'homme ([`wheelset_lateral_force`]), the worst wheelset.
+    pub wheelset_lateral_force: Figure,
+    /// Body acceleration ([`body_acceleration`]), vertical and lateral, the worst car.
+    pub body_acceleration_vertical: Figure,
+    /// See `body_acceleration_vertical`.
+    pub body_acceleration_lateral: Figure,
+    /// Sperling's W ([`sperling`]), vertical and lateral, the worst car.
+    pub sperling_vertical: Figure,
+    /// See `sperling_vertical`.
+    pub sperling_lateral: Figure,
+    /// Steps with some wheel off its rail (t = 0 included), the first one's time.
+    pub lift_off_steps: Figure,
+}
+
+const LIFT_OFF_SOURCE: &str =
+    "a wheel off its rail (normal force 0) carries and guides nothing: any lift-off fails the run";
+
+/// The worst (largest value) of `items`, judged, named `at`.
+fn worst(items: impl Iterator<Item = (String, Index)>, unit: &'static str) -> Figure {
+    let (at, ix) = items
+        .fold(None::<(String, Index)>, |best, x| match best {
+            Some(b) if x.1.value.is_nan() || x.1.value <= b.1.value => Some(b),
+            _ => Some(x),
+        })
+        .unwrap_or_else(|| (String::new(), Index::at_most(f64::NAN, f64::NAN, "")));
+    Figure::judged(ix.value, unit, Some(at), None, Some(ix.limit), ix.source)
+}
+
+/// The figures of `out` (module docs; the wheels named `car{N}.axle{K}.left|right`).
+pub fn high_speed_figures(out: &RailOutcome) -> HighSpeedFigures {
+    let dx = out.speed * out.dt;
+    let wheel = |w: usize| {
+        let side = if w % 2 == 0 { "left" } else { "right" };
+        format!("car{}.axle{}.{side}", w / 8 + 1, (w % 8) / 2 + 1)
+    };
+    let n = out.lateral.len();
+    let derailment_quotient = worst(
+        (0..n).map(|w| {
+            (
+                wheel(w),
+                derailment_quotient(&out.lateral[w], &out.vertical[w], dx),
+            )
+        }),
+        "1",
+    );
+    let unloading_max = worst(
+        (0..n).map(|w| (wheel(w), unloading(&out.vertical[w], out.p0))),
+        "1",
+    );
+    let wheelset_lateral_force = worst(
+        (0..n / 2).map(|a| {
+            let sum: Vec<f64> = out.lateral[2 * a]
+                .iter()
+                .zip(&out.lateral[2 * a + 1])
+                .map(|(l, r)| l + r)
+                .collect();
+            let name = format!("car{}.axle{}", a / 4 + 1, a % 4 + 1);
+            (name, wheelset_lateral_force(&sum, 2.0 * out.p0, dx))
+        }),
+        "N",
+    );
+    let car = |c: usize| format!("car{}", c + 1);
+    let cars = out.body_az.len();
+    let body_acceleration_vertical = worst(
+        (0..cars).map(|c| (car(c), body_acceleration(&out.body_az[c]))),
+        "m/s²",
+    );
+    let body_acceleration_lateral = worst(
+        (0..cars).map(|c| (car(c), body_acceleration(&out.body_ay[c]))),
+        "m/s²",
+    );
+    let sperling_vertical = worst(
+        (0..cars).map(|c| {
+            (
+                car(c),
+                sperling(&out.body_az[c], out.dt, Direction::Vertical),
+            )
+        }),
+        "1",
+    );
+    let sperling_lateral = worst(
+        (0..cars).map(|c| {
+            (
+                car(c),
+                sperling(&out.body_ay[c], out.dt, Direction::Lateral),
+            )
+        }),
+        "1",
+    );
+    let lift_off_steps = Figure::judged(
+        out.lift_off_steps as f64,
+        "steps",
+        None,
+        out.first_lift_off_t,
+        Some(0.0),
+        LIFT_OFF_SOURCE,
+    );
+    HighSpeedFigures {
+        derailment_quotient,
+        unloading_max,
+        wheelset_lateral_force,
+        body_acceleration_vertical,
+        body_acceleration_lateral,
+        sperling_vertical,
+        sperling_lateral,
+        lift_off_steps,
+    }
+}
+
+impl HighSpeedFigures {
+    /// Every figure by its summary.json name under `high_speed`.
+    pub fn all(&self) -> [(&'static str, &Figure); 8] {
+        [
+            ("high_speed.derailment_quotient", &self.derailment_quotient),
+            ("high_speed.unloading_max", &self.unloading_max),
+            (
+                "high_speed.wheelset_lateral_force",
+                &self.wheelset_lateral_force,
+            ),
+            (
+                "high_speed.body_acceleration_vertical",
+                &self.body_acceleration_vertical,
+            ),
+            (
+                "high_speed.body_acceleration_lateral",
+                &self.body_acceleration_lateral,
+            ),
+            ("high_speed.sperling_vertical", &self.sperling_vertical),
+            ("high_speed.sperling_lateral", &self.sperling_lateral),
+            ("high_speed.lift_off_steps", &self.lift_off_steps),
+        ]
+    }
 }

@@ -220,6 +220,9 @@ pub struct SafetyReport {
     pub maglev: Option<MaglevFigures>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub wheel_rail: Option<WheelRailFigures>,
+    /// The 3-D high-speed cars' running safety (`crate::running_safety`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub high_speed: Option<crate::running_safety::HighSpeedFigures>,
     pub per_car: Vec<CarAcceleration>,
 }
 
@@ -245,6 +248,9 @@ impl SafetyReport {
         if let Some(w) = &self.wheel_rail {
             all.push(("wheel_rail.unloading_max", &w.unloading_max));
             all.push(("wheel_rail.lift_off_steps", &w.lift_off_steps));
+        }
+        if let Some(h) = &self.high_speed {
+            all.extend(h.all());
         }
         all.into_iter()
             .filter_map(|(name, f)| f.pass.map(|p| (name, p)))
@@ -556,10 +562,63 @@ impl Safety {
             body_acceleration_rms,
             maglev,
             wheel_rail,
+            high_speed: None,
             per_car,
         };
         report.pass = report.judged().iter().all(|(_, pass)| *pass);
         Some(report)
+    }
+
+    /// The report of a run of 3-D high-speed cars ([`crate::physics::rail::run`]), which the
+    /// recorder does not see: their running safety, and each body's vertical acceleration
+    /// judged as every train's.
+    pub fn of_rail_cars(out: &crate::physics::rail::run::RailOutcome) -> SafetyReport {
+        let per_car: Vec<CarAcceleration> = out
+            .body_az
+            .iter()
+            .enumerate()
+            .map(|(k, a)| {
+                let (i, peak) = a.iter().enumerate().fold((0, 0.0f64), |m, (i, v)| {
+                    if v.abs() > m.1 {
+                        (i, v.abs())
+                    } else {
+                        m
+                    }
+                });
+                let rms = (a.iter().map(|v| v * v).sum::<f64>() / a.len().max(1) as f64).sqrt();
+                CarAcceleration {
+                    car: format!("car{}", k + 1),
+                    peak,
+                    t_s: i as f64 * out.dt,
+                    rms,
+                }
+            })
+            .collect();
+        let worst = first_max(per_car.iter(), |c| c.peak);
+        let rough = first_max(per_car.iter(), |c| c.rms);
+        let mut report = SafetyReport {
+            pass: true,
+            body_acceleration_peak: Figure::new(
+                worst.map_or(0.0, |c| c.peak),
+                "m/s²",
+                worst.map(|c| c.car.clone()),
+                worst.map(|c| c.t_s),
+            )
+            .limit(Some(BODY_ACCEL_LIMIT), BODY_ACCEL_SOURCE, le),
+            body_acceleration_rms: Figure::new(
+                rough.map_or(0.0, |c| c.rms),
+                "m/s²",
+                rough.map(|c| c.car.clone()),
+                None,
+            )
+            .limit(None, RMS_SOURCE, le),
+            maglev: None,
+            wheel_rail: None,
+            high_speed: Some(crate::running_safety::high_speed_figures(out)),
+            per_car,
+        };
+        report.pass = report.judged().iter().all(|(_, pass)| *pass);
+        report
     }
 
     fn maglev_figures(&self) -> MaglevFigures {

@@ -169,6 +169,10 @@ fn profiles_for(case: &Case, load: &Load) -> Result<Profiles> {
     let (Load::Vehicle(v), Some(seed)) = (load, case.irregularity_seed) else {
         return Ok(Profiles::smooth());
     };
+    if v.nodes.is_empty() {
+        // Only 3-D high-speed cars: their rails carry their own irregularity.
+        return Ok(Profiles::smooth());
+    }
     let x0s: Vec<f64> = v.node_x0();
     let x0s = x0s.iter().copied();
     let x_min = x0s.clone().fold(f64::INFINITY, f64::min) - 1.0;

@@ -172,6 +172,8 @@ pub struct Outcome {
     pub contact_ranges: Vec<(f64, f64)>,
     /// Every magnet's skid contact over the run (docs/contact.md).
     pub skids: crate::physics::skid::SkidOutcome,
+    /// What the run kept of its 3-D high-speed cars (`crate::physics::rail::run`), if any.
+    pub rail: Option<crate::physics::rail::run::RailOutcome>,
     /// The irregularity the run used, `[x, r_y, r_z]` (m) at every position a wheel occupied
     /// at a step, sorted by x, duplicates removed (empty for a moving force).
     pub profile: Vec<[f64; 3]>,
@@ -291,6 +293,7 @@ pub fn simulate<G: Guideway>(
                 contacts: Vec::new(),
                 nodes: Vec::new(),
                 parallel: false,
+                rail: None,
             };
             magnets.start(&Start {
                 train: &train,
@@ -332,7 +335,7 @@ pub fn couple<G: Guideway, M: Magnets + ?Sized>(
     rec: &mut dyn Recorder,
     monitor: &mut dyn Monitor,
 ) -> Result<Outcome> {
-    if v.nodes.is_empty() {
+    if v.nodes.is_empty() && v.rail.is_none() {
         return Err(Error::invalid(
             "train",
             "has no magnet and no wheel to meet the guideway",

@@ -19,7 +19,7 @@ use std::path::PathBuf;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// A scenario TOML file, or a bundled name (paper-4.2, paper-5, paper-5-quake,
-    /// paper-5-settled, train-forces, moving-force, unit). Every section and key, with its
+    /// paper-5-settled, paper-5-hsr, train-forces, moving-force, unit). Every section and key, with its
     /// unit, default and accepted range: docs/scenarios.md.
     pub scenario: String,
     /// Override a scenario value: train, speed, model, elements, modes, dt, t_end, nsub, alpha,
@@ -177,7 +177,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     summary.ground = ground;
     let skids =
         maglev_sim::safety::skid::figures(&outcome.skids, case.dt, &safety.magnet_wheel_names());
-    summary.safety = safety.report().map(|r| r.with_skids(skids));
+    summary.safety = match &outcome.rail {
+        // The 3-D high-speed cars keep their own record (docs/cars.md, "The 3-D car in a run").
+        Some(r) => Some(maglev_sim::Safety::of_rail_cars(r)),
+        None => safety.report().map(|r| r.with_skids(skids)),
+    };
     write_run(&out, &outcome, &summary, &args.sets, &columns)?;
     out.finish()?;
     eprintln!(

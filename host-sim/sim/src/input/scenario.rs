@@ -10,7 +10,7 @@ use maglev_core::{LawName, Params};
 use serde::{Deserialize, Serialize};
 
 /// Bundled scenarios: (name, TOML text).
-pub const BUNDLED: [(&str, &str); 7] = [
+pub const BUNDLED: [(&str, &str); 8] = [
     ("paper-4.2", include_str!("../../scenarios/paper-4.2.toml")),
     ("paper-5", include_str!("../../scenarios/paper-5.toml")),
     (
@@ -29,6 +29,10 @@ pub const BUNDLED: [(&str, &str); 7] = [
     (
         "paper-5-settled",
         include_str!("../../scenarios/paper-5-settled.toml"),
+    ),
+    (
+        "paper-5-hsr",
+        include_str!("../../scenarios/paper-5-hsr.toml"),
     ),
 ];
 
@@ -319,6 +323,9 @@ pub enum VehicleSection {
     Maglev(MaglevKeys),
     /// The paper's §5 wheel/rail train: `cars` cars of 25 m on Hertz contacts (docs/cars.md).
     WheelRail(WheelRailKeys),
+    /// A train of 3-D high-speed cars on the `[track]` (docs/cars.md, "The 3-D car in a
+    /// run").
+    HighSpeed(HighSpeedKeys),
     /// Constant vertical moving loads (`[train] kind = "forces"`): one car's loads, repeated.
     Forces(ForcesKeys),
     /// One levitation magnet carrying a body through a spring and a damper (`kind = "unit"`),
@@ -386,6 +393,55 @@ pub struct WheelRailKeys {
     pub cars: usize,
 }
 
+/// `kind = "high-speed"`: `cars` 3-D high-speed cars (`physics::rail::car`) on `[track]`.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct HighSpeedKeys {
+    #[serde(default = "twelve")]
+    pub cars: usize,
+    /// Distance between car centres (m); default 25.
+    #[serde(default = "car_pitch")]
+    pub car_length_m: f64,
+    /// Equivalent conicity of the wheel–rail pair; default the car's 0.05.
+    pub conicity: Option<f64>,
+    /// Wheel–rail friction coefficient; default 0.3.
+    pub friction: Option<f64>,
+    /// RK4 sub-steps of the cars per time step; default 2.
+    #[serde(default = "two")]
+    pub substeps: usize,
+}
+
+fn car_pitch() -> f64 {
+    25.0
+}
+
+fn two() -> usize {
+    2
+}
+
+/// `[track]`: the rails on their fastenings over a slab on the deck (`physics::rail::track`),
+/// where they lie on the girder, and the spectrum of their irregularity.
+#[derive(Deserialize, Serialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct TrackSection {
+    pub rail_bending_stiffness_N_m2: f64,
+    pub rail_mass_kg_per_m: f64,
+    pub pad_stiffness_N_per_m: f64,
+    pub pad_spacing_m: f64,
+    pub pad_damping_N_s_per_m: f64,
+    pub slab_bending_stiffness_N_m2: f64,
+    pub slab_mass_kg_per_m: f64,
+    pub mortar_modulus_N_per_m2: f64,
+    pub mortar_mass_kg_per_m: f64,
+    /// Y of the track centre and Z of the rail heads from the beam axis (m).
+    pub track_y_m: f64,
+    pub rail_z_m: f64,
+    /// The rails' irregularity under `[irregularity]`: `german-low`, `german-high` or
+    /// `chinese` (`physics::rail::spectrum`).
+    pub spectrum: String,
+}
+
 /// `kind = "forces"`.
 #[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
@@ -441,6 +497,7 @@ const VEHICLE_KINDS: &[&str] = &[
     "moving-force",
     "maglev",
     "wheel-rail",
+    "high-speed",
     "forces",
     "unit",
 ];
@@ -464,6 +521,7 @@ impl VehicleSection {
             "moving-force" => VehicleSection::MovingForce(keys(t)?),
             "maglev" => VehicleSection::Maglev(keys(t)?),
             "wheel-rail" => VehicleSection::WheelRail(keys(t)?),
+            "high-speed" => VehicleSection::HighSpeed(keys(t)?),
             "forces" => VehicleSection::Forces(keys(t)?),
             "unit" => VehicleSection::Unit(keys(t)?),
             other => return Err(toml::de::Error::unknown_variant(other, VEHICLE_KINDS).to_string()),
@@ -614,6 +672,8 @@ pub struct Scenario {
     pub support: Option<crate::input::support::SupportSection>,
     /// The magnets' skid contact with their rails (`[contact]`, docs/contact.md).
     pub contact: Option<ContactSection>,
+    /// The track of a `high-speed` train (`[track]`).
+    pub track: Option<TrackSection>,
 }
 
 /// `[contact]`: where and how a magnet lands on its rail (docs/contact.md); every key has a
@@ -883,6 +943,10 @@ mod tests {
                 "paper-5-settled",
                 &["support", "train", "controller", "output"][..],
             ),
+            (
+                "paper-5-hsr",
+                &["train", "controller", "track", "output"][..],
+            ),
         ] {
             let v = table(name);
             let keys: std::collections::BTreeSet<&String> = p5.keys().chain(v.keys()).collect();
@@ -961,7 +1025,9 @@ mod tests {
         for (name, text) in BUNDLED {
             let (key, bad) = match name {
                 "paper-4.2" => ("body_mass_t", "body_mass_t = \"x\""),
-                "paper-5" | "paper-5-quake" | "paper-5-settled" => ("cars", "cars = -3"),
+                "paper-5" | "paper-5-quake" | "paper-5-settled" | "paper-5-hsr" => {
+                    ("cars", "cars = -3")
+                }
                 "train-forces" => ("loads_kN", "loads_kN = 5"),
                 "unit" => ("magnet_mass_kg", "magnet_mass_kg = true"),
                 _ => ("force_kN", "force_kN = [1]"),

@@ -7,6 +7,7 @@
 
 use crate::physics::cars::fig6::Fig6;
 use crate::physics::cars::wheel_rail::WheelRail;
+use crate::physics::rail::run::RailTrain;
 use crate::physics::vehicle::{Fig1, Unit, VehicleModel};
 use crate::{Error, Result};
 
@@ -96,6 +97,9 @@ pub struct Train {
     pub nodes: Vec<Node>,
     /// Advance the cars on rayon's pool (off by default; see docs/performance.md).
     pub parallel: bool,
+    /// The 3-D high-speed cars and their track (`crate::physics::rail::run`), which run
+    /// beside `cars`: their own integrator, their own loads on the guideway.
+    pub rail: Option<RailTrain>,
 }
 
 impl Train {
@@ -207,6 +211,15 @@ impl Train {
             contacts,
             nodes,
             parallel: false,
+            rail: None,
+        }
+    }
+
+    /// A train of 3-D high-speed cars on their track, and nothing else.
+    pub fn rail_cars(spec: RailTrain) -> Self {
+        Train {
+            rail: Some(spec),
+            ..Self::from_cars(Vec::new())
         }
     }
 

@@ -19,6 +19,7 @@ use super::{
     Profiles, Settings, WheelGaps,
 };
 use crate::physics::guideway::{Guideway, PointLoad};
+use crate::physics::rail::run::RailRun;
 use crate::physics::skid::{Skids, WheelView};
 use crate::physics::train::Train;
 use crate::physics::vehicle::magnet_gaps;
@@ -163,6 +164,10 @@ struct TimeLoop<'a, G, M: ?Sized> {
     tally: Tally,
     /// The magnets' skids (docs/contact.md).
     skids: Skids,
+    /// The 3-D high-speed cars (`crate::physics::rail::run`), their loads the last in
+    /// `it.loads` from `rail_first` on.
+    rail: Option<RailRun>,
+    rail_first: usize,
 }
 
 impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
@@ -232,10 +237,28 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
             max_iterations: 0,
             first_collision_t: None,
         };
+        let rail = match &v.rail {
+            Some(spec) => Some(RailRun::new(
+                spec,
+                s.speed,
+                s.dt,
+                maglev_core::levitation::GRAVITY,
+                steps,
+            )?),
+            None => None,
+        };
+        let mut it = IterationState::at_rest(v, riders.forces, gaps_prev, contact_p);
+        let rail_first = it.loads.len();
+        if let Some(r) = &rail {
+            it.loads
+                .resize(rail_first + r.wheels(), PointLoad::default());
+        }
         Ok(TimeLoop {
             skids: Skids::new(s.skid, v.wheels.len()),
             at: Kinematics::at_rest(v, riders.forces, profiles, steps),
-            it: IterationState::at_rest(v, riders.forces, gaps_prev, contact_p),
+            it,
+            rail,
+            rail_first,
             guideway,
             magnets,
             train: v,
@@ -278,6 +301,9 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
     fn iterate(&mut self, step: u32, t: f64) -> Result<Iteration> {
         self.gaps(false);
         self.rail_under_contacts();
+        if let Some(r) = &mut self.rail {
+            r.begin(t);
+        }
         self.it.lift.fill(0.0);
         let mut iterations = 0;
         loop {
@@ -319,11 +345,16 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
         self.veh.solve(self.train, &it.f, &it.fc);
         it.zg_used.copy_from_slice(&it.zg);
         it.lift_used.copy_from_slice(&it.lift);
-        let lost = self.contact_loads();
+        let mut lost = self.contact_loads();
+        if let Some(r) = &mut self.rail {
+            r.advance(&mut self.it.loads[self.rail_first..]);
+            lost |= r.lifted();
+        }
         self.guideway.solve_step(&self.it.loads);
         self.it.gaps_used.copy_from_slice(&self.it.current);
         self.gaps(true);
         self.rail_under_contacts();
+        self.rail_under_rail_cars(t);
         Ok(lost)
     }
 
@@ -427,6 +458,17 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
         }
     }
 
+    /// The girder's motion under every wheel of the 3-D cars (the guideway's trial state).
+    fn rail_under_rail_cars(&mut self, t: f64) {
+        if let Some(r) = &mut self.rail {
+            for w in 0..r.wheels() {
+                let (x, ey, ez) = r.point(w, t);
+                let m = self.guideway.motion_at(x, ey, ez);
+                r.set_girder(w, m.y, m.z);
+            }
+        }
+    }
+
     /// How far the last pass moved what the next one would start from: the largest change
     /// of a gap, of the rail under a contact, or of a lift-off correction (as a
     /// displacement), in m.
@@ -446,7 +488,10 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
                     .max((it.lift[j] - it.lift_used[j]).abs() / k_h)
             })
             .fold(0.0, f64::max);
-        gaps.max(contacts)
+        match &self.rail {
+            Some(r) => gaps.max(contacts).max(r.change()),
+            None => gaps.max(contacts),
+        }
     }
 
     /// Step 3: commit step `step` (ending at `t`), update the ranges and counters, record it.
@@ -460,6 +505,9 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
         self.magnets.commit(step, t)?;
         self.guideway.commit();
         self.veh.commit();
+        if let Some(r) = &mut self.rail {
+            r.commit();
+        }
         let (buf, tally) = (&mut self.it, &mut self.tally);
         buf.gaps_prev.copy_from_slice(&buf.gaps_used);
         self.skids.commit(t);
@@ -554,6 +602,7 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
             contact_loss_steps: t.contact_loss_steps,
             contact_ranges: t.contact_ranges,
             skids: self.skids.outcome(),
+            rail: self.rail.map(RailRun::outcome),
             profile,
         }
     }

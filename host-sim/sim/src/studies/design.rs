@@ -20,10 +20,12 @@ fn design_vehicle(case: &Case) -> Result<VehicleModel> {
         TrainCase::Fig1 { .. } | TrainCase::Maglev { .. } | TrainCase::Unit(_) => {
             crate::studies::stability::vehicle::vehicle_of(case).map(|(v, _, _)| v)
         }
-        TrainCase::Forces(_) | TrainCase::WheelRail { .. } => Err(Error::invalid(
-            "controller.law",
-            "a train without magnets has no gains to design",
-        )),
+        TrainCase::Forces(_) | TrainCase::WheelRail { .. } | TrainCase::HighSpeed { .. } => {
+            Err(Error::invalid(
+                "controller.law",
+                "a train without magnets has no gains to design",
+            ))
+        }
     }
 }
 

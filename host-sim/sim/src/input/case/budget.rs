@@ -69,6 +69,7 @@ fn train_size(t: &TrainCase) -> (&'static str, f64, f64) {
         TrainCase::Fig1 { cars, .. } => ("train.repeat", 4.0 * *cars as f64, 12.0 * *cars as f64),
         TrainCase::Maglev { nodes, .. } => ("train.cars", *nodes as f64, 3.0 * *nodes as f64),
         TrainCase::WheelRail { nodes, .. } => ("train.cars", *nodes as f64, 0.0),
+        TrainCase::HighSpeed { wheels, .. } => ("train.cars", *wheels as f64, 0.0),
         TrainCase::Unit(_) => ("vehicle.kind", 1.0, 1.0),
         TrainCase::Forces(_) => ("train.loads_kN", 0.0, 0.0),
     }

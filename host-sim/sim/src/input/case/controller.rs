@@ -179,7 +179,7 @@ pub(super) fn law(
             TrainCase::Fig1 { .. } | TrainCase::Maglev { .. } | TrainCase::Unit(_) => {
                 LawChoice::DesignGapLoop
             }
-            TrainCase::Forces(_) | TrainCase::WheelRail { .. } => {
+            TrainCase::Forces(_) | TrainCase::WheelRail { .. } | TrainCase::HighSpeed { .. } => {
                 LawChoice::Given(LawKind::GapLoop(GapParams::designed()))
             }
         }),

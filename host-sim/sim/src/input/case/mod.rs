@@ -28,6 +28,7 @@ mod contact;
 mod controller;
 mod probes;
 mod record;
+mod track;
 mod train;
 mod viaduct;
 
@@ -36,7 +37,8 @@ pub use budget::{MAX_PROFILE_M, MAX_RECORD_BYTES, MAX_STEPS, MAX_SUB_STEPS};
 pub use changes::Changes;
 pub use checks::MAX_MAGNITUDE;
 pub use controller::{guidance_error, GuidanceChoice, LawChoice};
-pub use train::{fig6, TrainCase, MAX_CARS, MAX_LOADS};
+pub use track::TrackCase;
+pub use train::{fig6, high_speed_car, TrainCase, MAX_CARS, MAX_LOADS};
 pub use viaduct::{soil_density, MAX_PIER_ELEMENTS, MAX_RECEIVERS};
 
 use crate::input::scenario::{self, BridgeKind, Model, Scenario};
@@ -127,6 +129,9 @@ pub struct Case {
     /// The magnets' skid contact (`[contact]`, docs/contact.md), in SI.
     #[serde(rename = "contact")]
     pub skid: crate::physics::skid::Skid,
+    /// The track of a `high-speed` train (`[track]`), in SI.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub track: Option<TrackCase>,
 }
 
 impl Case {
@@ -151,7 +156,15 @@ impl Case {
             1,
             MAX_ITERATIONS as usize,
         )?;
-        let bridge = bridge::bridge(&sc.bridge)?;
+        let mut bridge = bridge::bridge(&sc.bridge)?;
+        let track = sc.track.as_ref().map(track::track).transpose()?;
+        if let Some(t) = &track {
+            // The girder carries the track's mass, on the track's centre line.
+            let m = t.slab.mass_per_m();
+            let s = &mut bridge.section;
+            s.mass_per_length += m;
+            s.polar_mass = s.polar_mass.map(|j| j + m * t.track_y * t.track_y);
+        }
         let damping = sc
             .bridge
             .damping
@@ -197,6 +210,21 @@ impl Case {
             ));
         }
         let (train, geometry) = train::train(&sc.vehicle)?;
+        match (&train, &track) {
+            (TrainCase::HighSpeed { .. }, None) => {
+                return Err(Error::invalid(
+                    "track",
+                    "a high-speed train needs a [track] section",
+                ))
+            }
+            (TrainCase::HighSpeed { .. }, Some(_)) | (_, None) => {}
+            (_, Some(_)) => {
+                return Err(Error::invalid(
+                    "track",
+                    "is read only by a high-speed train (train.kind = \"high-speed\")",
+                ))
+            }
+        }
         let controller = match (&sc.controller, &train) {
             (Some(_), _) => Some(controller::controller(&sc, dt)?),
             (None, TrainCase::Fig1 { .. } | TrainCase::Maglev { .. } | TrainCase::Unit(_)) => {
@@ -205,7 +233,10 @@ impl Case {
                     "a train with magnets needs a [controller] section",
                 ))
             }
-            (None, TrainCase::Forces(_) | TrainCase::WheelRail { .. }) => None,
+            (
+                None,
+                TrainCase::Forces(_) | TrainCase::WheelRail { .. } | TrainCase::HighSpeed { .. },
+            ) => None,
         };
         let t_end =
             match r.t_end_s {
@@ -265,6 +296,7 @@ impl Case {
             ground,
             support,
             skid,
+            track,
             scenario: sc,
         })
     }
@@ -282,9 +314,54 @@ impl Case {
                 cars, magnet_mass, ..
             } => Train::fig6_with(&train::fig6(*magnet_mass), *cars, GRAVITY).map(Some),
             TrainCase::WheelRail { cars, .. } => Train::wheel_rail(*cars, GRAVITY).map(Some),
+            TrainCase::HighSpeed { .. } => self.rail_train().map(|t| Some(Train::rail_cars(t))),
             TrainCase::Unit(u) => Ok(Some(VehicleModel::unit(u, GRAVITY)?.into())),
             TrainCase::Forces(_) => Ok(None),
         }
+    }
+
+    /// The 3-D cars of a `high-speed` case on its track, with the rails' irregularity over
+    /// every position a wheel passes when the irregularity is on.
+    pub fn rail_train(&self) -> Result<crate::physics::rail::run::RailTrain> {
+        use crate::physics::rail::irregularity::{Band, RailIrregularity};
+        use crate::physics::rail::run::RailTrain;
+        use crate::physics::rail::track::TrackSupport;
+        let (
+            TrainCase::HighSpeed {
+                cars,
+                pitch,
+                conicity,
+                friction,
+                substeps,
+                ..
+            },
+            Some(track),
+        ) = (&self.train, &self.track)
+        else {
+            return Err(Error::numerical("internal: not a high-speed case"));
+        };
+        let mut spec = RailTrain {
+            car: train::high_speed_car(*conicity, *friction),
+            cars: *cars,
+            pitch: *pitch,
+            track_y: track.track_y,
+            rail_z: track.rail_z,
+            support: Some(TrackSupport::new(&track.slab)?),
+            irregularity: None,
+            substeps: *substeps,
+        };
+        if let Some(seed) = self.irregularity_seed {
+            let x_min = -spec.length() - 2.0;
+            let x_max = self.speed * self.t_end + 2.0;
+            spec.irregularity = Some(RailIrregularity::new(
+                &track.spectrum(),
+                &Band::default(),
+                seed,
+                x_min,
+                x_max,
+            )?);
+        }
+        Ok(spec)
     }
 
     /// The law to run; an error if it is still to be designed (`crate::studies::design::resolve`).

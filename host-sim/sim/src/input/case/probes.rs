@@ -29,6 +29,13 @@ pub(super) fn probes(sc: &Scenario, bridge: &Bridge, train: &TrainCase) -> Resul
             cars: *cars,
             magnets: false,
         },
+        // The 3-D cars record their figures in summary.json's `safety`, not as probes.
+        TrainCase::HighSpeed { .. } => Extent {
+            spans,
+            wheels: 0,
+            cars: 0,
+            magnets: false,
+        },
         TrainCase::Forces(f) => Extent {
             spans,
             wheels: f.len(),

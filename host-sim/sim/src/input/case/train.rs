@@ -3,9 +3,11 @@
 
 use super::checks::{bounded, finite, non_negative, positive, positive_within, within};
 use crate::input::scenario::{
-    Fig1Keys, ForcesKeys, MaglevKeys, MovingForceKeys, UnitKeys, VehicleSection, WheelRailKeys,
+    Fig1Keys, ForcesKeys, HighSpeedKeys, MaglevKeys, MovingForceKeys, UnitKeys, VehicleSection,
+    WheelRailKeys,
 };
 use crate::physics::cars::fig6::Fig6;
+use crate::physics::rail::car::HsrCar;
 use crate::physics::train::Train;
 use crate::physics::vehicle::{Fig1, Unit, VehicleModel};
 use crate::simulation::MovingLoad;
@@ -52,6 +54,20 @@ pub enum TrainCase {
         nodes: usize,
         #[serde(rename = "length_m")]
         length: f64,
+    },
+    /// `cars` 3-D high-speed cars (`crate::physics::rail::car`, docs/cars.md) on the case's
+    /// track, `car_length` between centres; `wheels` wheels in all, the last `length`
+    /// behind the leading one.
+    HighSpeed {
+        cars: usize,
+        wheels: usize,
+        #[serde(rename = "car_length_m")]
+        pitch: f64,
+        #[serde(rename = "length_m")]
+        length: f64,
+        conicity: f64,
+        friction: f64,
+        substeps: usize,
     },
     /// Constant vertical moving loads (a `forces` train or the single `moving-force`), the
     /// leading load at x = 0 at t = 0 and every other behind it.
@@ -103,6 +119,7 @@ pub(super) fn train(v: &VehicleSection) -> Result<(TrainCase, Geometry)> {
                 Geometry::Paper,
             ))
         }
+        VehicleSection::HighSpeed(k) => Ok((high_speed(k)?, Geometry::Paper)),
         VehicleSection::Unit(keys) => Ok((TrainCase::Unit(unit(keys)?), keys.geometry)),
         VehicleSection::MovingForce(MovingForceKeys {
             force_kN,
@@ -210,6 +227,59 @@ fn fig1(k: &Fig1Keys) -> Result<(TrainCase, Geometry)> {
     ))
 }
 
+/// A `high-speed` train in SI, checked.
+fn high_speed(k: &HighSpeedKeys) -> Result<TrainCase> {
+    bounded("train.cars", k.cars, 1, MAX_CARS)?;
+    bounded("train.substeps", k.substeps, 1, 100)?;
+    let base = HsrCar::zhai_high_speed();
+    let conicity = within(
+        "train.conicity",
+        finite(
+            "train.conicity",
+            k.conicity.unwrap_or(base.wheelset.conicity),
+        )?,
+        0.001,
+        0.5,
+        "(equivalent conicity of a wheel–rail pair)",
+    )?;
+    let friction = within(
+        "train.friction",
+        finite(
+            "train.friction",
+            k.friction.unwrap_or(base.wheelset.material.friction),
+        )?,
+        0.01,
+        1.0,
+        "(wheel–rail friction coefficient)",
+    )?;
+    let span = base.wheelset_x()[0] - base.wheelset_x()[3];
+    let pitch = positive_within(
+        "train.car_length_m",
+        k.car_length_m,
+        span,
+        1000.0,
+        "m: at least the car's outer wheelsets' distance",
+    )?;
+    Ok(TrainCase::HighSpeed {
+        cars: k.cars,
+        wheels: 8 * k.cars,
+        pitch,
+        length: span + (k.cars - 1) as f64 * pitch,
+        conicity,
+        friction,
+        substeps: k.substeps,
+    })
+}
+
+/// The high-speed car of a `high-speed` train: Zhai's car
+/// ([`HsrCar::zhai_high_speed`]) with the case's conicity and friction.
+pub fn high_speed_car(conicity: f64, friction: f64) -> HsrCar {
+    let mut car = HsrCar::zhai_high_speed();
+    car.wheelset.conicity = conicity;
+    car.wheelset.material.friction = friction;
+    car
+}
+
 /// The Fig. 6 carriage of a `maglev` train: the defaults of docs/cars.md with magnet nodes of
 /// `magnet_mass` (kg).
 pub fn fig6(magnet_mass: f64) -> Fig6 {
@@ -310,7 +380,9 @@ pub(super) fn train_length(t: &TrainCase) -> f64 {
             cars,
             car_length,
         } => 2.0 * car.half_length + (cars - 1) as f64 * car_length,
-        TrainCase::Maglev { length, .. } | TrainCase::WheelRail { length, .. } => *length,
+        TrainCase::Maglev { length, .. }
+        | TrainCase::WheelRail { length, .. }
+        | TrainCase::HighSpeed { length, .. } => *length,
         TrainCase::Forces(f) => f.iter().map(|l| -l.x0).fold(0.0, f64::max),
         TrainCase::Unit(_) => 0.0,
     }

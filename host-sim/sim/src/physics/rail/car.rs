@@ -194,14 +194,22 @@ pub struct Running {
     minv: DMatrix<f64>,
     minv_c: DMatrix<f64>,
     minv_k: DMatrix<f64>,
+    /// [M⁻¹, −M⁻¹K, −M⁻¹C] row by row (DOFS × 3·DOFS), for [`Running::rate_of`].
+    rows: Vec<f64>,
     contact: WheelsetContact,
     /// The static contact forces of a centred wheelset (subtracted: deviations).
     rest: ContactForces,
 }
 
 impl Running {
-    /// The car at speed `v` (> 0) under `gravity`.
+    /// The car at speed `v` (> 0) under `gravity` on rigid rails.
     pub fn new(car: &HsrCar, v: f64, gravity: f64) -> Result<Self> {
+        Self::on_track(car, v, gravity, 0.0)
+    }
+
+    /// The car at speed `v` (> 0) under `gravity` on a track whose compliance under a wheel
+    /// is `c_ref` (m/N) at rest ([`crate::physics::rail::wheelset::Wheelset::contact_on`]).
+    pub fn on_track(car: &HsrCar, v: f64, gravity: f64, c_ref: f64) -> Result<Self> {
         if !(v.is_finite() && v > 0.0) {
             return Err(Error::invalid(
                 "train.speed_mps",
@@ -212,14 +220,27 @@ impl Running {
         let minv = m
             .try_inverse()
             .ok_or_else(|| Error::numerical("high-speed car: singular mass matrix"))?;
-        let contact = car.wheelset.contact(car.wheel_load(gravity));
-        let rest = contact.forces(&Motion::default(), v, &[RailPoint::default(); 2]);
+        let contact = car.wheelset.contact_on(car.wheel_load(gravity), c_ref);
+        // At rest on a smooth track of the reference compliance (the static approach's).
+        let smooth = RailPoint {
+            compliance: c_ref,
+            ..RailPoint::default()
+        };
+        let rest = contact.forces(&Motion::default(), v, &[smooth; 2]);
+        let (minv_c, minv_k) = (&minv * c, &minv * k);
+        let mut rows = Vec::with_capacity(3 * DOFS * DOFS);
+        for i in 0..DOFS {
+            rows.extend((0..DOFS).map(|j| minv[(i, j)]));
+            rows.extend((0..DOFS).map(|j| -minv_k[(i, j)]));
+            rows.extend((0..DOFS).map(|j| -minv_c[(i, j)]));
+        }
         Ok(Running {
             car: *car,
             v,
-            minv_c: &minv * c,
-            minv_k: &minv * k,
+            minv_c,
+            minv_k,
             minv,
+            rows,
             contact,
             rest,
         })
@@ -259,22 +280,126 @@ impl Running {
 
     /// d/dt of the state (q, q̇) at the car position `x_car`.
     pub fn rate(&self, state: &[f64], rails: &dyn Rails, x_car: f64) -> Vec<f64> {
+        let mut s = [0.0; 2 * DOFS];
+        s.copy_from_slice(state);
+        self.rate_of(&s, rails, x_car).to_vec()
+    }
+
+    /// d/dt of the state (q, q̇) at the car position `x_car`, without allocating:
+    /// q̈ = M⁻¹ F − M⁻¹K q − M⁻¹C q̇ (F the contact load as deviation from rest).
+    pub fn rate_of(
+        &self,
+        state: &[f64; 2 * DOFS],
+        rails: &dyn Rails,
+        x_car: f64,
+    ) -> [f64; 2 * DOFS] {
         let (q, dq) = state.split_at(DOFS);
-        let f = self.contact_load(q, dq, rails, x_car);
-        let qv = DVector::from_column_slice(q);
-        let dqv = DVector::from_column_slice(dq);
-        let a = &self.minv * f - &self.minv_k * qv - &self.minv_c * dqv;
-        dq.iter().copied().chain(a.iter().copied()).collect()
+        let mut input = [0.0; 3 * DOFS];
+        for (k, xw) in self.car.wheelset_x().iter().enumerate() {
+            let g = self
+                .wheelset_forces(k, q, dq, rails, x_car + xw)
+                .generalised;
+            for (i, dof) in HsrCar::wheelset_dofs(k).iter().enumerate() {
+                input[*dof] += g[i] - self.rest.generalised[i];
+            }
+        }
+        input[DOFS..].copy_from_slice(state);
+        let mut out = [0.0; 2 * DOFS];
+        out[..DOFS].copy_from_slice(dq);
+        for (o, row) in out[DOFS..].iter_mut().zip(self.rows.chunks_exact(3 * DOFS)) {
+            *o = row.iter().zip(&input).map(|(a, b)| a * b).sum();
+        }
+        out
     }
 
     /// One RK4 step of `dt` from time `t` (car centre at x0 + v t).
     pub fn step(&self, state: &mut [f64; 2 * DOFS], t: f64, dt: f64, rails: &dyn Rails, x0: f64) {
         rk4(state, dt, |tau, s| {
-            let r = self.rate(s, rails, x0 + self.v * (t + tau));
-            let mut out = [0.0; 2 * DOFS];
-            out.copy_from_slice(&r);
-            out
+            self.rate_of(s, rails, x0 + self.v * (t + tau))
         });
+    }
+
+    /// The start of [`Running::settle`]: each wheelset centred on its two rails (y, z their
+    /// means, roll their height difference over 2b), each frame at the mean of its two
+    /// wheelsets and the body at the mean of the frames (lateral, vertical, roll), so that
+    /// every wheel touches its rail: a car whose wheels all miss a rail lower than nominal
+    /// has no static stiffness against its rigid motions.
+    fn on_rails(&self, rails: &dyn Rails, x_car: f64) -> [f64; DOFS] {
+        let mut q = [0.0; DOFS];
+        let b = self.car.wheelset.b;
+        let mut ws = [[0.0; 3]; 4];
+        for (k, xw) in self.car.wheelset_x().iter().enumerate() {
+            let [l, r] = rails.at(x_car + xw, self.v);
+            ws[k] = [
+                0.5 * (l.y + r.y),
+                0.5 * (l.z + r.z),
+                (l.z - r.z) / (2.0 * b),
+            ];
+            let d = HsrCar::wheelset_dofs(k);
+            (q[d[0]], q[d[1]], q[d[2]]) = (ws[k][0], ws[k][1], ws[k][2]);
+        }
+        let mut body = [0.0; 3];
+        for j in 0..2 {
+            for i in 0..3 {
+                let m = 0.5 * (ws[2 * j][i] + ws[2 * j + 1][i]);
+                q[5 + 5 * j + i] = m;
+                body[i] += 0.5 * m;
+            }
+        }
+        q[..3].copy_from_slice(&body);
+        q
+    }
+
+    /// The car at rest (q̇ = 0) in its static equilibrium on `rails` with its centre at
+    /// `x_car`: Newton on the accelerations a(q) = M⁻¹(F(q, 0) − F(0, 0)) − M⁻¹K q = 0 with
+    /// a central-difference Jacobian (1e−8 m, rad), from [`Running::on_rails`], to
+    /// |Δq| ≤ 1e−12 in at most
+    /// 50 iterations. On smooth rails q = 0 at once.
+    pub fn settle(&self, rails: &dyn Rails, x_car: f64) -> Result<[f64; 2 * DOFS]> {
+        let n = DOFS;
+        let zero = [0.0; DOFS];
+        let acc = |q: &[f64]| -> DVector<f64> {
+            &self.minv * self.contact_load(q, &zero, rails, x_car)
+                - &self.minv_k * DVector::from_column_slice(q)
+        };
+        let mut q = self.on_rails(rails, x_car);
+        let mut last = f64::NAN;
+        for _ in 0..50 {
+            let a = acc(&q);
+            if a.iter().all(|v| *v == 0.0) {
+                break;
+            }
+            let mut jac = DMatrix::zeros(n, n);
+            let h = 1e-8;
+            for j in 0..n {
+                let (mut up, mut down) = (q, q);
+                up[j] += h;
+                down[j] -= h;
+                jac.set_column(j, &((acc(&up) - acc(&down)) / (2.0 * h)));
+            }
+            let dq = jac
+                .lu()
+                .solve(&(-a))
+                .ok_or_else(|| Error::numerical("high-speed car: singular static Jacobian"))?;
+            for (qi, d) in q.iter_mut().zip(dq.iter()) {
+                *qi += d;
+            }
+            last = dq.amax();
+            if last <= 1e-12 {
+                let mut state = [0.0; 2 * DOFS];
+                state[..DOFS].copy_from_slice(&q);
+                return Ok(state);
+            }
+        }
+        let mut state = [0.0; 2 * DOFS];
+        state[..DOFS].copy_from_slice(&q);
+        if acc(&q).amax() == 0.0 {
+            return Ok(state);
+        }
+        Err(Error::numerical(format!(
+            "high-speed car at x = {x_car} m: the static equilibrium on the rail at t = 0 did not converge (last Newton step {last:.3e}, largest acceleration {:.3e} m/s²)",
+            acc(&q).amax()
+        )))
     }
 
     /// The state matrix of the model linearised about rest on smooth rails (central

@@ -186,7 +186,8 @@ impl RailIrregularity {
         (a - 0.5 * g, v - 0.5 * c)
     }
 
-    fn all(&self, x: f64) -> [f64; 4] {
+    /// The four components at x, in [`Component::ALL`]'s order (m).
+    pub fn all(&self, x: f64) -> [f64; 4] {
         Component::ALL.map(|c| self.component(c, x))
     }
 }

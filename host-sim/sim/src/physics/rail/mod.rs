@@ -6,5 +6,7 @@
 pub mod car;
 pub mod contact;
 pub mod irregularity;
+pub mod run;
 pub mod spectrum;
+pub mod track;
 pub mod wheelset;

@@ -1,0 +1,362 @@
+//! A train of 3-D high-speed cars ([`super::car`]) running over the guideway in the coupled
+//! time loop: the left and right rails of a real track ([`super::irregularity`]) on the
+//! layered support of [`super::track`], on the girder. docs/cars.md, "The 3-D car in a
+//! run".
+//!
+//! # Coupling
+//!
+//! The car's contact is nonlinear (Hertz, Kalker, Shen–Hedrick–Elkins, the flange), so it is
+//! not folded into the time loop's Newmark matrices: each car is integrated explicitly by
+//! classical RK4 over the step from its committed state, in `substeps` equal sub-steps, while
+//! the girder's motion under every wheel goes linearly from its committed value (t − Δt) to
+//! the loop's current iterate (t). The contact forces at the end of the step load the girder
+//! at the wheels' rail points (Y and Z, through the track: the track is massless between
+//! wheel and deck, its mass is the deck's). The loop iterates, re-integrating the cars, until
+//! the girder's motion under every wheel changes by at most the loop's tolerance between two
+//! passes — the same fixed point as the Hertz contacts of the paper's wheel/rail car. The
+//! first pass starts from the girder's motion extrapolated linearly from the last two steps.
+//!
+//! # The rails under a wheel
+//!
+//! Rail i's head at x is at y = y_i(x) + y_g, z = z_i(x) + z_g: the irregularity of that rail
+//! and the girder's motion at the rail point (x, track_y ± b, rail_z), with
+//! ẏ = v·y_i'(x) + ẏ_g and ż = v·z_i'(x) + ż_g (the derivatives by central differences over
+//! ±1 mm). The track's compliance
+//! under the wheel is [`super::track::TrackSupport::compliance_at`]; the static approach is
+//! taken at its mean over a fastening bay.
+//!
+//! # The start
+//!
+//! Every car starts at rest in its static equilibrium on the rails as they lie at t = 0
+//! ([`Running::settle`]), as the project's wheel/rail cars do (docs/cars.md, "The start on a
+//! rough rail").
+
+use super::car::{HsrCar, Rails, Running, DOFS};
+use super::irregularity::RailIrregularity;
+use super::track::TrackSupport;
+use super::wheelset::{RailPoint, WheelForce};
+use crate::physics::guideway::PointLoad;
+use crate::{Error, Result};
+
+/// The 3-D cars of a train and the track they run on.
+#[derive(Clone, Debug)]
+pub struct RailTrain {
+    /// The car (every car of the train is this one).
+    pub car: HsrCar,
+    /// Number of cars.
+    pub cars: usize,
+    /// Distance between the centres of consecutive cars, m.
+    pub pitch: f64,
+    /// Y of the track centre on the guideway (from the beam axis), m.
+    pub track_y: f64,
+    /// Z of the rail heads on the guideway (from the beam axis), m.
+    pub rail_z: f64,
+    /// The layered support under the rails; `None`: rails rigid on the girder.
+    pub support: Option<TrackSupport>,
+    /// The rails' irregularity; `None`: smooth rails.
+    pub irregularity: Option<RailIrregularity>,
+    /// RK4 sub-steps per time step.
+    pub substeps: usize,
+}
+
+impl RailTrain {
+    /// The centre of car `i` (0 first) at t = 0: the leading wheelset of the train at x = 0.
+    pub fn car_x0(&self, i: usize) -> f64 {
+        -self.car.wheelset_x()[0] - i as f64 * self.pitch
+    }
+
+    /// How far the last wheelset lies behind the first, m.
+    pub fn length(&self) -> f64 {
+        let x = self.car.wheelset_x();
+        x[0] - x[3] + self.cars.saturating_sub(1) as f64 * self.pitch
+    }
+
+    /// Number of wheels.
+    pub fn wheels(&self) -> usize {
+        8 * self.cars
+    }
+
+    /// The rail points (left, right) of a wheelset at x with the girder's motion `g` (y, z)
+    /// under each rail and its rates `dg`, at speed `v` (module docs; the rails as
+    /// [`RailIrregularity::left`] and [`RailIrregularity::right`] combine the components).
+    fn points(&self, x: f64, g: [[f64; 2]; 2], dg: [[f64; 2]; 2], v: f64) -> [RailPoint; 2] {
+        let (compliance, damping) = self
+            .support
+            .as_ref()
+            .map_or((0.0, 0.0), |s| (s.compliance_at(x), s.track.wheel_damping()));
+        let ([vz, a, c, gauge], d) = match &self.irregularity {
+            None => ([0.0; 4], [0.0; 4]),
+            Some(r) => {
+                let h = 1e-3;
+                let (up, down) = (r.all(x + h), r.all(x - h));
+                (r.all(x), [0, 1, 2, 3].map(|i| v * (up[i] - down[i]) / (2.0 * h)))
+            }
+        };
+        let side = |s: f64, k: usize| RailPoint {
+            y: a + s * 0.5 * gauge + g[k][0],
+            z: vz + s * 0.5 * c + g[k][1],
+            dy: d[1] + s * 0.5 * d[3] + dg[k][0],
+            dz: d[0] + s * 0.5 * d[2] + dg[k][1],
+            compliance,
+            damping,
+        };
+        [side(1.0, 0), side(-1.0, 1)]
+    }
+}
+
+/// What a run kept of the 3-D cars, every committed step (t = 0 included): per wheel
+/// (car by car, wheelset by wheelset, left then right) the rail's lateral and vertical force
+/// on it, per car the body's lateral and vertical acceleration.
+#[derive(Clone, Debug, Default)]
+pub struct RailOutcome {
+    /// Step, s.
+    pub dt: f64,
+    /// Speed, m/s.
+    pub speed: f64,
+    /// Static wheel load, N.
+    pub p0: f64,
+    /// Y (N) per wheel, per step.
+    pub lateral: Vec<Vec<f64>>,
+    /// Q (N) per wheel, per step.
+    pub vertical: Vec<Vec<f64>>,
+    /// Body lateral and vertical acceleration (m/s²) per car, per step.
+    pub body_ay: Vec<Vec<f64>>,
+    /// See `body_ay`.
+    pub body_az: Vec<Vec<f64>>,
+    /// Steps (t = 0 included) with some wheel's normal force at zero.
+    pub lift_off_steps: usize,
+    /// The time of the first, s.
+    pub first_lift_off_t: Option<f64>,
+}
+
+/// The rails under one car within a step: the girder's motion interpolated between the
+/// committed and the current iterate (module docs).
+struct StepRails<'a> {
+    run: &'a RailRun,
+    car: usize,
+    /// The step's start, s.
+    t0: f64,
+}
+
+impl Rails for StepRails<'_> {
+    fn at(&self, x: f64, v: f64) -> [RailPoint; 2] {
+        let r = self.run;
+        let xc = r.spec.car_x0(self.car) + v * self.t0;
+        // The wheelset whose path over the step holds x (they lie metres apart).
+        let xs = r.spec.car.wheelset_x();
+        let k = (0..4)
+            .min_by(|&a, &b| {
+                let da = (x - xc - xs[a] - 0.5 * v * r.dt).abs();
+                let db = (x - xc - xs[b] - 0.5 * v * r.dt).abs();
+                da.total_cmp(&db)
+            })
+            .unwrap_or(0);
+        let tau = ((x - xc - xs[k]) / (v * r.dt)).clamp(0.0, 1.0);
+        let w = 8 * self.car + 2 * k;
+        let at = |side: usize| {
+            let (g0, g1) = (r.girder0[w + side], r.girder1[w + side]);
+            let g = [g0[0] + tau * (g1[0] - g0[0]), g0[1] + tau * (g1[1] - g0[1])];
+            (g, [(g1[0] - g0[0]) / r.dt, (g1[1] - g0[1]) / r.dt])
+        };
+        let ((gl, dl), (gr, dr)) = (at(0), at(1));
+        r.spec.points(x, [gl, gr], [dl, dr], v)
+    }
+}
+
+/// The 3-D cars in a run (module docs).
+pub struct RailRun {
+    spec: RailTrain,
+    running: Running,
+    dt: f64,
+    /// Committed and trial state of every car.
+    state: Vec<[f64; 2 * DOFS]>,
+    trial: Vec<[f64; 2 * DOFS]>,
+    /// The girder's (y, z) under every wheel: committed at t − 2Δt and t − Δt, the current
+    /// iterate at t, and the iterate the cars were last integrated with.
+    girder_old: Vec<[f64; 2]>,
+    girder0: Vec<[f64; 2]>,
+    girder1: Vec<[f64; 2]>,
+    girder_used: Vec<[f64; 2]>,
+    /// The rail's force on every wheel at the end of the step (trial).
+    forces: Vec<WheelForce>,
+    /// Time of the step being iterated (its end), s.
+    t: f64,
+    out: RailOutcome,
+}
+
+impl RailRun {
+    /// The cars of `spec` at speed `v` (> 0), stepping by `dt`, each at rest in its static
+    /// equilibrium on the rails at t = 0 over a girder at rest.
+    pub fn new(spec: &RailTrain, v: f64, dt: f64, gravity: f64, steps: usize) -> Result<Self> {
+        if spec.substeps == 0 {
+            return Err(Error::invalid("train.substeps", "must be at least 1"));
+        }
+        let c_ref = spec.support.as_ref().map_or(0.0, TrackSupport::mean);
+        let running = Running::on_track(&spec.car, v, gravity, c_ref)?;
+        let nw = spec.wheels();
+        let mut run = RailRun {
+            spec: spec.clone(),
+            running,
+            dt,
+            state: vec![[0.0; 2 * DOFS]; spec.cars],
+            trial: vec![[0.0; 2 * DOFS]; spec.cars],
+            girder_old: vec![[0.0; 2]; nw],
+            girder0: vec![[0.0; 2]; nw],
+            girder1: vec![[0.0; 2]; nw],
+            girder_used: vec![[0.0; 2]; nw],
+            forces: vec![WheelForce::default(); nw],
+            t: 0.0,
+            out: RailOutcome {
+                dt,
+                speed: v,
+                p0: spec.car.wheel_load(gravity),
+                lateral: vec![Vec::with_capacity(steps + 1); nw],
+                vertical: vec![Vec::with_capacity(steps + 1); nw],
+                body_ay: vec![Vec::with_capacity(steps + 1); spec.cars],
+                body_az: vec![Vec::with_capacity(steps + 1); spec.cars],
+                ..RailOutcome::default()
+            },
+        };
+        for car in 0..spec.cars {
+            let rails = StepRails {
+                run: &run,
+                car,
+                t0: 0.0,
+            };
+            let s = run.running.settle(&rails, spec.car_x0(car))?;
+            run.state[car] = s;
+        }
+        run.trial.clone_from(&run.state);
+        run.end_forces();
+        run.record();
+        Ok(run)
+    }
+
+    /// Number of wheels (guideway loads).
+    pub fn wheels(&self) -> usize {
+        self.spec.wheels()
+    }
+
+    /// The rail point (x, e_y, e_z) of wheel `w` at time `t`, m.
+    pub fn point(&self, w: usize, t: f64) -> (f64, f64, f64) {
+        let (car, k, side) = (w / 8, (w % 8) / 2, w % 2);
+        let x = self.spec.car_x0(car) + self.spec.car.wheelset_x()[k] + self.running.v * t;
+        let b = self.spec.car.wheelset.b;
+        let ey = if side == 0 { b } else { -b };
+        (x, self.spec.track_y + ey, self.spec.rail_z)
+    }
+
+    /// Starts the iteration of the step ending at `t`: the girder's motion under every wheel
+    /// extrapolated from the last two committed steps.
+    pub fn begin(&mut self, t: f64) {
+        self.t = t;
+        for ((g1, g0), old) in self
+            .girder1
+            .iter_mut()
+            .zip(&self.girder0)
+            .zip(&self.girder_old)
+        {
+            *g1 = [2.0 * g0[0] - old[0], 2.0 * g0[1] - old[1]];
+        }
+    }
+
+    /// Sets the girder's motion (y, z) under wheel `w` at the current iterate.
+    pub fn set_girder(&mut self, w: usize, y: f64, z: f64) {
+        self.girder1[w] = [y, z];
+    }
+
+    /// Integrates every car over the step from its committed state under the current
+    /// iterate of the girder's motion, and writes the wheels' loads on the guideway (the
+    /// wheel's force on the rail, at its rail point) into `loads`.
+    pub fn advance(&mut self, loads: &mut [PointLoad]) {
+        self.girder_used.clone_from(&self.girder1);
+        let (t0, h) = (self.t - self.dt, self.dt / self.spec.substeps as f64);
+        for car in 0..self.spec.cars {
+            let mut s = self.state[car];
+            let rails = StepRails { run: self, car, t0 };
+            let x0 = self.spec.car_x0(car);
+            for i in 0..self.spec.substeps {
+                self.running.step(&mut s, t0 + i as f64 * h, h, &rails, x0);
+            }
+            self.trial[car] = s;
+        }
+        self.end_forces();
+        for (w, (l, f)) in loads.iter_mut().zip(&self.forces).enumerate() {
+            let (x, ey, ez) = self.point(w, self.t);
+            *l = PointLoad {
+                x,
+                ey,
+                ez,
+                fy: -f.lateral,
+                fz: -f.vertical,
+            };
+        }
+    }
+
+    /// The contact forces at the end of the step of every wheel, from the trial states.
+    fn end_forces(&mut self) {
+        let t0 = self.t - self.dt;
+        let v = self.running.v;
+        for car in 0..self.spec.cars {
+            let rails = StepRails { run: self, car, t0 };
+            let (q, dq) = self.trial[car].split_at(DOFS);
+            let xc = self.spec.car_x0(car) + v * self.t;
+            let xs = self.spec.car.wheelset_x();
+            let mut f = [WheelForce::default(); 8];
+            for k in 0..4 {
+                let c = self.running.wheelset_forces(k, q, dq, &rails, xc + xs[k]);
+                f[2 * k] = c.wheels[0];
+                f[2 * k + 1] = c.wheels[1];
+            }
+            self.forces[8 * car..8 * car + 8].copy_from_slice(&f);
+        }
+    }
+
+    /// The largest change of the girder's motion under a wheel between the iterate the
+    /// cars were integrated with and the current one, m.
+    pub fn change(&self) -> f64 {
+        self.girder1
+            .iter()
+            .zip(&self.girder_used)
+            .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs()))
+            .fold(0.0, f64::max)
+    }
+
+    /// Whether some wheel's normal force is zero at the trial state.
+    pub fn lifted(&self) -> bool {
+        self.forces.iter().any(|f| f.normal <= 0.0)
+    }
+
+    /// Accepts the trial states and records the step.
+    pub fn commit(&mut self) {
+        self.state.clone_from(&self.trial);
+        self.girder_old.clone_from(&self.girder0);
+        self.girder0.clone_from(&self.girder_used);
+        self.record();
+    }
+
+    /// Records the committed step: wheel forces and body accelerations.
+    fn record(&mut self) {
+        for (w, f) in self.forces.iter().enumerate() {
+            self.out.lateral[w].push(f.lateral);
+            self.out.vertical[w].push(f.vertical);
+        }
+        if self.lifted() {
+            self.out.lift_off_steps += 1;
+            self.out.first_lift_off_t.get_or_insert(self.t);
+        }
+        let t0 = self.t - self.dt;
+        for car in 0..self.spec.cars {
+            let rails = StepRails { run: self, car, t0 };
+            let xc = self.spec.car_x0(car) + self.running.v * self.t;
+            let r = self.running.rate_of(&self.state[car], &rails, xc);
+            self.out.body_ay[car].push(r[DOFS + HsrCar::BODY[0]]);
+            self.out.body_az[car].push(r[DOFS + HsrCar::BODY[1]]);
+        }
+    }
+
+    /// What the run kept.
+    pub fn outcome(self) -> RailOutcome {
+        self.out
+    }
+}
