@@ -15,10 +15,10 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from ._native import BUNDLED, Scenario, _RustPd, stability
+from ._native import BUNDLED, Scenario, _RustPd, accelerogram, bands, stability
 from ._native import run as _run
 
-__all__ = ["BUNDLED", "Scenario", "Run", "run", "stability"]
+__all__ = ["BUNDLED", "Scenario", "Run", "accelerogram", "bands", "run", "stability"]
 
 
 class Run:

@@ -44,6 +44,30 @@ def run(
 def stability(scenario: Scenario, girder_modes: int = 8) -> dict[str, Any]:
     """`maglev stability --scenario`'s report (poles, margins, critical magnet mass), a dict."""
 
+def accelerogram(
+    pga_g: float,
+    ground: str = "medium",
+    vertical_ratio: float = 2.0 / 3.0,
+    duration_s: float = 20.0,
+    dt_s: float = 0.005,
+    seed: int = 0,
+    rise_s: float = 2.0,
+    strong_end_s: float = 10.0,
+    decay_per_s: float = 0.4,
+) -> dict[str, np.ndarray]:
+    """`maglev accelerogram`'s record: `t_s`, `ax_m_per_s2`, `ay_m_per_s2`, `az_m_per_s2`
+    (the same bits); `ValueError` naming the keyword outside its limits."""
+
+def bands(
+    values: np.ndarray,
+    dt_s: float,
+    quantity: str = "acceleration",
+    output: str = "acceleration",
+    running: float | None = None,
+) -> dict[str, Any]:
+    """`maglev bands`'s one-third-octave levels of `values` (every `dt_s` s): `centre_hz`, the
+    command's level column (dB, NaN for a band without energy, unrounded), `rms`, `method`."""
+
 class _RustPd:
     """A PD law with an integral term, in Rust: the tests' reference for a Python controller."""
 

@@ -9,6 +9,7 @@
 
 use pyo3::prelude::*;
 
+pub mod analyses;
 pub mod columns;
 pub mod errors;
 pub mod magnets;
@@ -23,6 +24,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<magnets::RustPd>()?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(studies::stability, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::accelerogram, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::bands, m)?)?;
     m.add("BUNDLED", scenario::bundled_names())?;
     Ok(())
 }

@@ -683,6 +683,7 @@ pub struct Scenario {
 #[allow(non_snake_case)]
 pub struct ContactSection {
     pub skid_gap_m: Option<f64>,
+    pub setdown_gap_m: Option<f64>,
     pub stiffness_MN_per_m: Option<f64>,
     pub damping_kN_s_per_m: Option<f64>,
     pub friction: Option<f64>,

@@ -10,6 +10,12 @@
 //! response, has no consistent solution: the damper would push it off before it touched),
 //! and the force is continuous at first touch.
 //!
+//! The set-down stop bounds the gap from above: a magnet whose gap opens to `h_d`
+//! (`setdown_gap_m`) sets the vehicle down on its skids or support wheels on the guideway's
+//! sliding surface. It is the same contact mirrored (Eq. C3): `N_d = max(0, k·δ_d + c·δ̇_d)`
+//! with `δ_d = h − h_d`, the force closing the gap (it carries the vehicle's weight into the
+//! guideway), with the same friction.
+//!
 //! Friction, opposing the skid's slip on the rail (the train's speed `V` along the rail and
 //! the gap-plane velocity `v_t` across it): `F_t = −μ·N·v_t/√(V² + v_t² + v_ε²)` and the drag
 //! `F_x = −μ·N·V/√(…)` (Eq. C2); `v_ε` regularises the sign at rest, so that above a few
@@ -31,6 +37,10 @@ pub struct Skid {
     /// The magnet's gap at which its skid touches the rail (m), ≥ 0.
     #[serde(rename = "skid_gap_m")]
     pub gap: f64,
+    /// The levitation gap at which the vehicle sets down on its skids or support wheels on
+    /// the guideway (m), above the nominal gap: the gap's upper bound (Eq. C3).
+    #[serde(rename = "setdown_gap_m")]
+    pub setdown: f64,
     /// Contact stiffness k (N/m), > 0.
     #[serde(rename = "stiffness_N_per_m")]
     pub stiffness: f64,
@@ -45,9 +55,11 @@ pub struct Skid {
 }
 
 impl Skid {
-    /// The defaults (docs/contact.md, "Defaults and their sources").
+    /// The defaults (docs/contact.md, "Defaults and their sources"); the set-down gap is
+    /// twice the project's nominal gap h0 = 10 mm (a scenario's default is twice its own h0).
     pub const DEFAULT: Skid = Skid {
         gap: 0.002,
+        setdown: 0.02,
         stiffness: 5e9,
         damping: 6e5,
         friction: 0.3,
@@ -84,6 +96,24 @@ impl Skid {
         ((a - kk * (h - compliance * n_used)) / (1.0 + kk * compliance)).max(0.0)
     }
 
+    /// Eq. C3, the set-down stop's force (N, closing the gap) at the gap `h`, solved with the
+    /// gap's response as [`Skid::normal_implicit`] is: a force `N` closes the gap by
+    /// `C·(N − n_used)`. It is Eq. C1 in the mirrored gap `−h` against the stop `−h_d`.
+    pub fn setdown_implicit(
+        &self,
+        h: f64,
+        h_prev: f64,
+        dt: f64,
+        compliance: f64,
+        n_used: f64,
+    ) -> f64 {
+        let mirrored = Skid {
+            gap: -self.setdown,
+            ..*self
+        };
+        mirrored.normal_implicit(-h, -h_prev, dt, compliance, n_used)
+    }
+
     /// Eq. C2: the friction (N) of the normal force `n` along the slip velocity component `v`,
     /// when the skid slips at `speed` (m/s, the magnitude of the whole slip velocity).
     pub fn friction_along(&self, n: f64, v: f64, speed: f64) -> f64 {
@@ -91,8 +121,12 @@ impl Skid {
     }
 }
 
-/// Per magnet wheel: levitation, guidance left, guidance right.
-pub const SIDES: usize = 3;
+/// Per magnet wheel: the levitation skid, guidance left, guidance right, and the set-down
+/// stop (the levitation gap's upper bound).
+pub const SIDES: usize = 4;
+
+/// The index of the set-down stop in a wheel's `[z, left, right, setdown]`.
+pub const SETDOWN: usize = 3;
 
 /// One magnet's contact over a run.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -110,7 +144,7 @@ pub struct SkidRange {
 /// current pass, the forces the last pass loaded the train with, and the run's ranges.
 pub struct Skids {
     skid: Skid,
-    /// Per wheel: the normal forces `[z, left, right]` of the current pass (N).
+    /// Per wheel: the normal forces `[z, left, right, setdown]` of the current pass (N).
     normal: Vec<[f64; SIDES]>,
     /// Per wheel: the net contact force on the wheel `(F_z, F_y)` (N, Z up), and each
     /// skid's friction drag along the rail (N).
@@ -130,7 +164,7 @@ pub struct Skids {
 /// Every magnet's skid contact over a run.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SkidOutcome {
-    /// Per magnet wheel `[z, left, right]`.
+    /// Per magnet wheel `[z, left, right, setdown]`.
     pub per_magnet: Vec<[SkidRange; SIDES]>,
     /// Committed steps with some magnet in contact, the first one's end time (s).
     pub steps: usize,
@@ -180,9 +214,11 @@ impl Skids {
         let s = self.skid;
         let gaps = |g: (f64, f64)| [g.0, w.h0 + g.1, w.h0 - g.1];
         let (now, prev) = (gaps(w.now), gaps(w.prev));
-        let sides = if w.guided { SIDES } else { 1 };
+        let sides = if w.guided { 3 } else { 1 };
         let used = self.normal[i];
-        let near = (0..sides).any(|k| now[k] < s.gap || used[k] > 0.0);
+        let near = (0..sides).any(|k| now[k] < s.gap || used[k] > 0.0)
+            || now[0] > s.setdown
+            || used[SETDOWN] > 0.0;
         if !near {
             self.normal[i] = [0.0; SIDES];
             self.force[i] = (0.0, 0.0);
@@ -195,18 +231,21 @@ impl Skids {
             let c = if k == 0 { czz } else { cyy };
             n[k] = s.normal_implicit(now[k], prev[k], dt, c, used[k]);
         }
+        n[SETDOWN] = s.setdown_implicit(now[0], prev[0], dt, czz, used[SETDOWN]);
         // Slip velocities: vertical (from h_z) and lateral (from d), relative to the rail.
         let vz = w.sign * (w.now.0 - w.prev.0) / dt;
         let vy = (w.now.1 - w.prev.1) / dt;
         let slip_z_skid = (speed * speed + vy * vy).sqrt();
         let slip_y_skid = (speed * speed + vz * vz).sqrt();
-        let (nz, nl, nr) = (n[0], n[1], n[2]);
-        let fz = w.sign * nz + s.friction_along(nl + nr, vz, slip_y_skid);
-        let fy = nl - nr + s.friction_along(nz, vy, slip_z_skid);
+        let [nz, nl, nr, nd] = n;
+        // The levitation skid and the set-down stop both slide in the horizontal plane.
+        let fz = w.sign * (nz - nd) + s.friction_along(nl + nr, vz, slip_y_skid);
+        let fy = nl - nr + s.friction_along(nz + nd, vy, slip_z_skid);
         let drag = [
             s.friction_along(nz, speed, slip_z_skid).abs(),
             s.friction_along(nl, speed, slip_y_skid).abs(),
             s.friction_along(nr, speed, slip_y_skid).abs(),
+            s.friction_along(nd, speed, slip_z_skid).abs(),
         ];
         self.normal[i] = n;
         self.force[i] = (fz, fy);

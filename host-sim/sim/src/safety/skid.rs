@@ -12,7 +12,8 @@ const FORCE_SOURCE: &str = "no limit: the skid's load is reported, not judged (d
 /// One magnet's contact with its rail over the run.
 #[derive(Serialize, Debug, Clone, PartialEq)]
 pub struct SkidMagnet {
-    /// `wheel{N}.z`, `.left` or `.right`.
+    /// `wheel{N}.z`, `.left`, `.right` (the skids on the rail) or `.setdown` (the vehicle
+    /// set down on the guideway).
     pub magnet: String,
     #[serde(rename = "peak_normal_N")]
     pub peak_normal: f64,
@@ -40,7 +41,7 @@ pub struct SkidFigures {
     pub per_magnet: Vec<SkidMagnet>,
 }
 
-const SIDES: [&str; 3] = ["z", "left", "right"];
+const SIDES: [&str; crate::physics::skid::SIDES] = ["z", "left", "right", "setdown"];
 
 /// The figures of `o` for a run of step `dt` (s); `wheel_names[i]` names magnet wheel `i`.
 pub fn figures(o: &SkidOutcome, dt: f64, wheel_names: &[String]) -> SkidFigures {
