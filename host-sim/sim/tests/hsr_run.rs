@@ -25,6 +25,7 @@ fn settings(speed: f64, t_end: f64, midspans: Vec<f64>) -> Settings {
         t_end,
         controller: Params::paper_wheel(DT),
         law: LawKind::Paper,
+        guidance: None,
         geometry: Geometry::Paper,
         tolerance: 1e-9,
         max_iterations: 50,

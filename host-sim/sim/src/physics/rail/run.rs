@@ -80,16 +80,18 @@ impl RailTrain {
     /// under each rail and its rates `dg`, at speed `v` (module docs; the rails as
     /// [`RailIrregularity::left`] and [`RailIrregularity::right`] combine the components).
     fn points(&self, x: f64, g: [[f64; 2]; 2], dg: [[f64; 2]; 2], v: f64) -> [RailPoint; 2] {
-        let (compliance, damping) = self
-            .support
-            .as_ref()
-            .map_or((0.0, 0.0), |s| (s.compliance_at(x), s.track.wheel_damping()));
+        let (compliance, damping) = self.support.as_ref().map_or((0.0, 0.0), |s| {
+            (s.compliance_at(x), s.track.wheel_damping())
+        });
         let ([vz, a, c, gauge], d) = match &self.irregularity {
             None => ([0.0; 4], [0.0; 4]),
             Some(r) => {
                 let h = 1e-3;
                 let (up, down) = (r.all(x + h), r.all(x - h));
-                (r.all(x), [0, 1, 2, 3].map(|i| v * (up[i] - down[i]) / (2.0 * h)))
+                (
+                    r.all(x),
+                    [0, 1, 2, 3].map(|i| v * (up[i] - down[i]) / (2.0 * h)),
+                )
             }
         };
         let side = |s: f64, k: usize| RailPoint {

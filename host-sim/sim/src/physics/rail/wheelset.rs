@@ -203,7 +203,8 @@ impl WheelsetContact {
             let radius_change = s * w.conicity * rel;
             let d = self.d0 + (radius_change - (z - r.z) - s * w.b * phi) * cone.cos();
             let normal = if d > 0.0 {
-                let rate = (s * w.conicity * (dy - r.dy) - (dz - r.dz) - s * w.b * dphi) * cone.cos();
+                let rate =
+                    (s * w.conicity * (dy - r.dy) - (dz - r.dz) - s * w.b * dphi) * cone.cos();
                 (hertz_in_series(d, g, r.compliance) + r.damping * rate).max(0.0)
             } else {
                 0.0
