@@ -342,6 +342,16 @@ fn required_on_the_page_is_required_by_the_code() {
                ka_V_s2_per_m = 0.0\nki_V_per_m_s = 2150.0\nkc_V_per_A = 1.0\nvmax_V = 300.0\n\
                rate_Hz = 10000.0\nobserver_Hz = 300.0\n",
     ));
+    // The guidance law's gains, on paper-4.2's guided car under the state law.
+    let p42 = BUNDLED.iter().find(|(n, _)| *n == "paper-4.2").unwrap().1;
+    samples.push((
+        "paper-4.2, guided".into(),
+        p42.replace("vmax_V = inf", "vmax_V = inf\nlaw = \"state\"")
+            + "\n[controller.state]\nkp_V_per_m = 51600.0\nkd_V_s_per_m = 1600.0\n\
+               ka_V_s2_per_m = 40.0\nki_V_per_m_s = 4300.0\nkc_V_per_A = 10.0\nvmax_V = 500.0\n\
+               \n[controller.guidance]\nkp_V_per_m = 51600.0\nkd_V_s_per_m = 1600.0\n\
+               ka_V_s2_per_m = 0.0\nki_V_per_m_s = 4300.0\nkc_V_per_A = 10.0\n",
+    ));
     // paper-5's train as the one kind no file has: its [train] holds `cars` only.
     let p5 = BUNDLED.iter().find(|(n, _)| *n == "paper-5").unwrap().1;
     samples.push((

@@ -586,10 +586,24 @@ pub enum GuidanceSection {
     Design { design: bool },
 }
 
+/// The keys of `[controller.guidance]`: the core's gains as `GuidanceParams` spells them
+/// (checked by a test), and `design`.
+const GUIDANCE_KEYS: &[&str] = &[
+    "kp_V_per_m",
+    "kd_V_s_per_m",
+    "ka_V_s2_per_m",
+    "ki_V_per_m_s",
+    "kc_V_per_A",
+    "design",
+];
+
 impl<'de> Deserialize<'de> for GuidanceSection {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
         use serde::de::Error as _;
         let mut table = toml::Table::deserialize(d)?;
+        if let Some(k) = table.keys().find(|k| !GUIDANCE_KEYS.contains(&k.as_str())) {
+            return Err(D::Error::unknown_field(k, GUIDANCE_KEYS));
+        }
         match table.remove("design") {
             Some(toml::Value::Boolean(true)) => match table.keys().next() {
                 Some(k) => Err(D::Error::custom(format!(
@@ -906,6 +920,17 @@ fn apply_set(table: &mut toml::Table, set: &str) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `[controller.guidance]`'s keys are the core's `GuidanceParams` keys and `design`.
+    #[test]
+    fn the_guidance_keys_are_the_cores() {
+        let core: Vec<&str> = GuidanceParams::default()
+            .gains()
+            .map(|(f, _)| f.key.unwrap())
+            .to_vec();
+        assert_eq!(core, GUIDANCE_KEYS[..5]);
+        assert_eq!(GUIDANCE_KEYS[5], "design");
+    }
 
     #[test]
     fn overrides_reach_their_keys_and_unknown_keys_are_named() {

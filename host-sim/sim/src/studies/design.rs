@@ -66,6 +66,17 @@ fn resolve_guided(mut case: Case) -> Result<Case> {
         _ => Want::Design,
     };
     let v = design_vehicle(&case)?;
+    // The supply headroom is the case's (its irregularity at its speed): the case with the
+    // candidate's gains.
+    let headroom = |lev: &maglev_core::law::state::StateParams,
+                    g: &maglev_core::law::guidance::GuidanceParams|
+     -> Result<f64> {
+        let mut c = case.clone();
+        c.law = LawChoice::Given(LawKind::State(*lev));
+        c.guidance = GuidanceChoice::Given(*g);
+        let h = crate::studies::stability::headroom::headroom(&c)?;
+        Ok(h.ratio.unwrap_or(0.0))
+    };
     let (lev, guide) = design_guided(
         &v,
         &controller,
@@ -74,6 +85,7 @@ fn resolve_guided(mut case: Case) -> Result<Case> {
         guidance,
         case.geometry,
         case.dt,
+        &headroom,
     )?;
     case.law = LawChoice::Given(LawKind::State(lev));
     case.guidance = GuidanceChoice::Given(guide);

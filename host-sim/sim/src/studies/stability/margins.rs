@@ -29,6 +29,7 @@
 //! delay as its (2, 2) Padé approximant in the loop (exact in phase to 1e-5 rad at
 //! `ω·T = 0.1`, far above any crossover here). When it is not, the margins are `None`.
 
+use super::resolvent::Resolvent;
 use super::vehicle::{MagnetLoop, VehiclePlant};
 use nalgebra::{Complex, DMatrix, DVector};
 use serde::Serialize;
@@ -54,6 +55,8 @@ pub struct BrokenLoop {
     a_ol: DMatrix<f64>,
     b: DVector<f64>,
     f: DVector<f64>,
+    /// `f·(sI − A_ol)⁻¹·b` at any `s` ([`Resolvent`]).
+    response: Resolvent,
     /// The delay in series (s).
     pub delay: f64,
 }
@@ -75,22 +78,26 @@ impl BrokenLoop {
         b[m.x] = 1.0 / m.tau;
         let f = DVector::from_column_slice(&m.dv);
         let a_ol = &plant.a - &b * f.transpose();
-        Ok(BrokenLoop { a_ol, b, f, delay })
+        let response = Resolvent::new(
+            &a_ol,
+            &DMatrix::from_column_slice(n, 1, b.as_slice()),
+            &DMatrix::from_row_slice(1, n, f.as_slice()),
+        );
+        Ok(BrokenLoop {
+            a_ol,
+            b,
+            f,
+            response,
+            delay,
+        })
     }
 
     /// `L(s)` (module docs).
     pub fn at(&self, s: Complex<f64>) -> Complex<f64> {
-        let n = self.a_ol.nrows();
-        let m = DMatrix::from_fn(n, n, |i, j| {
-            let d = if i == j { s } else { Complex::new(0.0, 0.0) };
-            d - Complex::new(self.a_ol[(i, j)], 0.0)
-        });
-        let rhs = self.b.map(|v| Complex::new(v, 0.0));
-        let Some(x) = m.lu().solve(&rhs) else {
+        let Some(x) = self.response.at(s) else {
             return Complex::new(f64::INFINITY, 0.0);
         };
-        let fx: Complex<f64> = self.f.iter().zip(x.iter()).map(|(fi, xi)| xi * *fi).sum();
-        -fx * (-s * self.delay).exp()
+        -x[(0, 0)] * (-s * self.delay).exp()
     }
 
     /// `L(jω)`.

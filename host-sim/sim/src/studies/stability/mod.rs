@@ -36,8 +36,11 @@ pub mod multiloop;
 pub mod numerics;
 pub mod plant;
 pub mod report;
+pub mod resolvent;
 pub mod schemes;
 pub mod state_design;
+pub mod suspension;
+pub mod targets;
 pub mod vehicle;
 
 /// A complex number for reports (`re`, `im`), sorted by descending real part then imaginary.

@@ -30,6 +30,7 @@
 //! loop with the delay is stable is decided with the delay as its (2, 2) Padé approximant in
 //! every channel, as the loop-at-a-time margins do; if not, the margin is null.
 
+use super::resolvent::Resolvent;
 use super::vehicle::VehiclePlant;
 use nalgebra::{Complex, DMatrix};
 use serde::Serialize;
@@ -100,29 +101,37 @@ impl Cut {
         self.b.ncols()
     }
 
+    /// The reduction that evaluates `L(jω)` ([`Resolvent`]), once per cut.
+    pub fn resolvent(&self) -> Resolvent {
+        Resolvent::new(&self.a_ol, &self.b, &self.f)
+    }
+
     /// `L(jω)` (m × m).
     pub fn loop_at(&self, w: f64) -> DMatrix<Complex<f64>> {
-        let n = self.a_ol.nrows();
-        let s = Complex::new(0.0, w);
-        let m = DMatrix::from_fn(n, n, |i, j| {
-            let d = if i == j { s } else { Complex::new(0.0, 0.0) };
-            d - Complex::new(self.a_ol[(i, j)], 0.0)
-        });
-        let rhs = self.b.map(|v| Complex::new(v, 0.0));
+        self.loop_with(&self.resolvent(), w)
+    }
+
+    /// `L(jω)` through `r`, this cut's [`Self::resolvent`].
+    fn loop_with(&self, r: &Resolvent, w: f64) -> DMatrix<Complex<f64>> {
         let k = self.inputs();
-        let x = m
-            .lu()
-            .solve(&rhs)
-            .unwrap_or_else(|| DMatrix::from_element(n, k, Complex::new(f64::INFINITY, 0.0)));
-        let fc = self.f.map(|v| Complex::new(v, 0.0));
-        (fc * x) * (-(-s * self.delay).exp())
+        let s = Complex::new(0.0, w);
+        match r.at(s) {
+            Some(x) => x * (-(-s * self.delay).exp()),
+            None => DMatrix::from_element(k, k, Complex::new(f64::INFINITY, 0.0)),
+        }
     }
 
     /// `S(jω) − I/2`.
+    #[cfg(test)]
     fn m_at(&self, w: f64) -> Option<DMatrix<Complex<f64>>> {
+        self.m_with(&self.resolvent(), w)
+    }
+
+    /// `S(jω) − I/2` through `r`, this cut's [`Self::resolvent`].
+    fn m_with(&self, r: &Resolvent, w: f64) -> Option<DMatrix<Complex<f64>>> {
         let k = self.inputs();
         let i = DMatrix::<Complex<f64>>::identity(k, k);
-        let l = self.loop_at(w);
+        let l = self.loop_with(r, w);
         if l.iter().any(|v| !(v.re.is_finite() && v.im.is_finite())) {
             return None;
         }
@@ -275,9 +284,10 @@ pub fn disk_margin(cut: &Cut, loops: Vec<String>) -> crate::Result<DiskMargin> {
         return Ok(out);
     }
     let ws = grid();
+    let r = cut.resolvent();
     // ω = 0 counts where L(0) is finite (no free integrator in the cut plant); elsewhere a
     // singular `jω·I − A_ol` is no bound.
-    let mu = |w: f64, refine: bool| match cut.m_at(w) {
+    let mu = |w: f64, refine: bool| match cut.m_with(&r, w) {
         Some(m) => mu_upper(&m, refine),
         None if w == 0.0 => f64::NEG_INFINITY,
         None => f64::INFINITY,

@@ -11,6 +11,8 @@ use crate::studies::stability::marginal::{self, Honest, Kind};
 use crate::studies::stability::margins::{margins, Margins};
 use crate::studies::stability::multiloop::{vehicle_disk_margin, DiskMargin};
 use crate::studies::stability::vehicle::{min_damping, runnable, vehicle_of, VehiclePlant};
+use crate::studies::stability::suspension::{held_poles, pole_target};
+use crate::studies::stability::targets::{targets, Inputs, Targets, MAX_REAL_PART};
 use crate::studies::stability::Complex;
 use maglev_core::law::guidance::GuidanceParams;
 use maglev_core::law::state::StateParams;
@@ -102,6 +104,11 @@ pub struct ScenarioReport {
     /// The closed loop with those modes coupled at the magnets, the same gains
     /// ([`crate::studies::stability::coupled`]).
     pub coupled: Option<Coupled>,
+    /// The poles of the vehicle's suspension on held magnets (1/s, [`super::suspension`]):
+    /// what no gain moves.
+    pub suspension_poles: Vec<Complex>,
+    /// The design targets read off this report ([`super::targets`]).
+    pub targets: Targets,
 }
 
 /// The delay in series in the margins: 1.5 control periods (module docs of
@@ -175,6 +182,14 @@ pub fn case_report(
     let margins = all_margins(&plant, delay)?;
     let disk_margin = vehicle_disk_margin(&plant, delay)?;
     let headroom = headroom(case)?;
+    let targets = targets(&Inputs {
+        max_real_part: vd.max_real_part,
+        pole_target: pole_target(&v, MAX_REAL_PART)?,
+        zero_poles: vd.zero_poles,
+        margins: &margins,
+        disk: &disk_margin,
+        headroom: &headroom,
+    });
     let note = if vd.zero_poles > 0 {
         format!(
             "{} pole(s) with |s| < {ZERO_POLE:e} 1/s, expected: the paper's law holds each \
@@ -241,5 +256,7 @@ pub fn case_report(
         gap_loop,
         girder_modes: girder,
         coupled,
+        suspension_poles: held_poles(&v)?,
+        targets,
     })
 }

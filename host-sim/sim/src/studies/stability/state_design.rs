@@ -16,9 +16,12 @@
 //!    pole `√c`. The acceleration gain stays 0: on the bare magnet `a ∝ x`, so it would only
 //!    duplicate `kc`.
 //! 2. **Verification and a small search.** Every candidate
-//!    `(r, ζ, ρ) ∈ {1, 1.25, 1.5, 2, 2.5, 3, 4, 5, 6} × {0.7, 0.5, 0.9} × {0.2, 0.1, 0.3}`,
+//!    `(r, ζ, ρ) ∈ {1, 1.25, 1.5, 2, 2.5, 3, 4, 5, 6} × {0.7, 0.5, 0.9} × {0.2, 0.1, 0.3,
+//!    0.05, 0.02}`,
 //!    in that order, is checked on the case's full linear model ([`VehiclePlant`]: body,
-//!    spring, every magnet): every pole with real part ≤ −1 s⁻¹ (no zero pole), and at every
+//!    spring, every magnet): every pole with real part ≤ −1 s⁻¹ (no zero pole; a suspension
+//!    mode that is slower than that on held magnets is held to its own real part there,
+//!    [`super::suspension`]), and at every
 //!    magnet the margins with the delay of 1.5 control periods ([`super::margins`]): lower
 //!    and upper gain margin ≥ 6 dB, phase margin ≥ 35°, `Ms ≤ 2`. The design is the first
 //!    candidate that meets every target and keeps within the supply (a 10 % gap error asks
@@ -27,13 +30,18 @@
 //!    is an error naming the worst target of the best candidate.
 //!
 //! # Scope
-//! Magnets without guidance (`kind = "unit"`). On a guided vehicle (Fig. 1, Fig. 6) the two
-//! magnets of each guidance pair see opposite gaps, so the sum of their integrals is fed by
-//! nothing: a pole at exactly 0 whatever the gains, and the pole target cannot be met. The
-//! design refuses such a vehicle; its gains are given (`[controller.state]`).
+//! [`design`]: magnets without guidance (`kind = "unit"`). On a guided vehicle (Fig. 1,
+//! Fig. 6) under the levitation law alone the two magnets of each guidance pair see opposite
+//! gaps, so the sum of their integrals is fed by nothing: a pole at exactly 0 whatever the
+//! gains. [`design_guided`] gives the pairs the guidance law (`[controller.guidance]`), whose
+//! common mode has no integral.
 
 use super::margins::Margins;
-use super::report::{all_margins, DELAY_PERIODS};
+use super::targets::{
+    GAIN_MARGIN_DB, MAX_HEADROOM_RATIO, MAX_REAL_PART, MAX_SENSITIVITY, MIN_DISK_ALPHA,
+    PHASE_MARGIN_DEG,
+};
+use super::report::DELAY_PERIODS;
 use super::vehicle::VehiclePlant;
 use crate::physics::vehicle::VehicleModel;
 use maglev_core::gap::Geometry;
@@ -42,14 +50,18 @@ use maglev_core::law::state::StateParams;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::{LawKind, Params};
 
-/// The targets (module docs).
-pub const GAIN_MARGIN_DB: f64 = 6.0;
-pub const PHASE_MARGIN_DEG: f64 = 35.0;
-pub const MAX_SENSITIVITY: f64 = 2.0;
-pub const MAX_REAL_PART: f64 = -1.0;
 
 /// The bandwidths tried, in units of the magnet's unstable pole `√c`, in order.
 pub const CANDIDATE_R: [f64; 9] = [1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0];
+
+/// The integral poles tried, in units of the bandwidth, in order. The slow ones (0.05,
+/// 0.02) leave the suspension's low modes alone: an integral acting at a body mode's
+/// frequency feeds it energy (a stiffness `Ki/(jω)` lags by 90°).
+pub const CANDIDATE_RHO: [f64; 5] = [0.2, 0.1, 0.3, 0.05, 0.02];
+
+/// The slow pairs' natural frequencies tried by [`Placement::Soft`] (rad/s, in order; each
+/// pair's real part is `−0.7·ω_s`, left of −1 s⁻¹).
+pub const CANDIDATE_SLOW: [f64; 4] = [1.5, 2.0, 3.0, 5.0];
 
 /// The state law's gains from the pole placement on a bare magnet of mass `mass` (kg)
 /// carrying `p0` (N), coil `inner`, at `(r, ζ, ρ)` (module docs); timing and supply from
@@ -59,18 +71,13 @@ pub fn place(
     p0: f64,
     inner: &Params,
     base: &StateParams,
-    (r, zeta, rho): (f64, f64, f64),
+    placement: impl Into<Placement>,
 ) -> StateParams {
     let (h0, i0) = (inner.h0, inner.i0);
     let vb = inner.r0 * i0;
     let tau = 2.0 * p0 * h0 / (inner.r0 * i0 * i0);
     let c = 2.0 * p0 / (mass * h0);
-    let w = r * c.sqrt();
-    let wi = rho * w;
-    let a3 = 2.0 * zeta * w + w + wi;
-    let a2 = w * w + 2.0 * zeta * w * (w + wi) + w * wi;
-    let a1 = w * w * (w + wi) + 2.0 * zeta * w * w * wi;
-    let a0 = w * w * w * wi;
+    let [a3, a2, a1, a0] = placement.into().coefficients(c.sqrt());
     let kc = (tau * a3 - 1.0).max(0.0);
     let kd = tau * a2 / c;
     let kp = tau * a1 / c + kc + 1.0;
@@ -85,6 +92,50 @@ pub fn place(
     }
 }
 
+/// Where a candidate puts the bare magnet's four poles (module docs, step 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Placement {
+    /// `(r, ζ, ρ)`: a pair at `ω·(−ζ ± j·√(1 − ζ²))`, one at `−ω`, the integral's at `−ρ·ω`,
+    /// `ω = r·√c`.
+    Spread(f64, f64, f64),
+    /// `(r, ζ, ω_s)`: a pair at `ω·(−ζ ± j·√(1 − ζ²))`, `ω = r·√c`, and a slow pair at
+    /// `ω_s·(−0.7 ± j·0.71)` (`ω_s` in rad/s): the loop soft at the suspension's frequencies,
+    /// where it damps the body on its springs instead of holding the springs' lower ends.
+    Soft(f64, f64, f64),
+}
+
+impl From<(f64, f64, f64)> for Placement {
+    fn from((r, zeta, rho): (f64, f64, f64)) -> Self {
+        Placement::Spread(r, zeta, rho)
+    }
+}
+
+impl Placement {
+    /// The characteristic polynomial's `[a3, a2, a1, a0]` (monic quartic) for a magnet whose
+    /// unstable pole is `√c` = `sqrt_c`.
+    pub fn coefficients(self, sqrt_c: f64) -> [f64; 4] {
+        match self {
+            Placement::Spread(r, zeta, rho) => {
+                let w = r * sqrt_c;
+                let wi = rho * w;
+                [
+                    2.0 * zeta * w + w + wi,
+                    w * w + 2.0 * zeta * w * (w + wi) + w * wi,
+                    w * w * (w + wi) + 2.0 * zeta * w * w * wi,
+                    w * w * w * wi,
+                ]
+            }
+            Placement::Soft(r, zeta, slow) => {
+                // (s² + b1·s + b0)(s² + d1·s + d0).
+                let w = r * sqrt_c;
+                let (b1, b0) = (2.0 * zeta * w, w * w);
+                let (d1, d0) = (2.0 * 0.7 * slow, slow * slow);
+                [b1 + d1, b0 + d0 + b1 * d1, b1 * d0 + b0 * d1, b0 * d0]
+            }
+        }
+    }
+}
+
 /// The guidance law's gains from the same pole placement on the differential mode of a
 /// guidance pair on a bare lateral mass `mass` (kg), each magnet at `p0` (N): its lateral
 /// force is `−4·p0·x_d` (`x_d = (x_L − x_R)/2`, EMS) where a levitation magnet's is
@@ -95,7 +146,7 @@ pub fn place_guidance(
     p0: f64,
     inner: &Params,
     base: &StateParams,
-    candidate: (f64, f64, f64),
+    candidate: impl Into<Placement>,
 ) -> GuidanceParams {
     let s = place(0.5 * mass, p0, inner, base, candidate);
     GuidanceParams {
@@ -115,6 +166,8 @@ pub struct Check {
     pub shortfall: f64,
     pub worst: String,
     pub max_real_part: f64,
+    /// The pole target it was held to (1/s, [`super::suspension::pole_target`]).
+    pub pole_target: f64,
     pub margins: Vec<Margins>,
 }
 
@@ -126,11 +179,14 @@ pub fn check(
     geometry: Geometry,
     dt: f64,
 ) -> crate::Result<Check> {
-    check_guided(v, inner, law, None, geometry, dt, |_| true)
+    check_guided(v, inner, law, None, geometry, dt, |_| true, false)
 }
 
-/// [`check`] with the guidance pairs under `guidance` (when given), counting the margins of
-/// the magnets `counted` names only (every pole counts).
+/// [`check`] with the guidance pairs under `guidance` (when given), the margins of the
+/// magnets `counted` names only (every pole counts). With `poles_first`, a candidate whose
+/// poles miss their target is not asked for its margins (they are the costly part; the
+/// check then holds none).
+#[allow(clippy::too_many_arguments)]
 pub fn check_guided(
     v: &VehicleModel,
     inner: &Params,
@@ -139,42 +195,29 @@ pub fn check_guided(
     geometry: Geometry,
     dt: f64,
     counted: impl Fn(&str) -> bool,
+    poles_first: bool,
 ) -> crate::Result<Check> {
     let kind = LawKind::State(*law);
     let plant = VehiclePlant::guided(v, inner, &kind, guidance, geometry)?;
     let poles = plant.poles()?;
     let max_re = poles.iter().map(|p| p.re).fold(f64::NEG_INFINITY, f64::max);
+    let target = super::suspension::pole_target(v, MAX_REAL_PART)?;
+    let mut worst = (
+        (max_re - target) / -MAX_REAL_PART,
+        format!("max_real_part: {max_re:.4} 1/s against {target:.4}"),
+    );
     let delay = DELAY_PERIODS * dt / law.periods(dt) as f64;
-    let margins = all_margins(&plant, delay)?;
-    let mut worst = (max_re - MAX_REAL_PART, "max_real_part".to_string());
-    let mut consider = |x: f64, what: String| {
-        if x > worst.0 || x.is_nan() {
-            worst = (if x.is_nan() { f64::INFINITY } else { x }, what);
-        }
+    let margins = if poles_first && worst.0 > 0.0 {
+        Vec::new()
+    } else {
+        (0..plant.magnets.len())
+            .filter(|&k| counted(&plant.magnets[k].name))
+            .map(|k| super::margins::margins(&plant, k, delay))
+            .collect::<crate::Result<Vec<_>>>()?
     };
-    for m in margins.iter().filter(|m| counted(&m.magnet)) {
-        let n = &m.magnet;
-        if !m.stable_with_delay {
-            consider(f64::INFINITY, format!("{n}: unstable with the delay"));
-            continue;
-        }
-        let db = |x: Option<f64>| x.unwrap_or(f64::INFINITY);
-        consider(
-            (GAIN_MARGIN_DB - db(m.gain_low_db)) / GAIN_MARGIN_DB,
-            format!("{n}: gain_low_db"),
-        );
-        consider(
-            (GAIN_MARGIN_DB - db(m.gain_high_db)) / GAIN_MARGIN_DB,
-            format!("{n}: gain_high_db"),
-        );
-        consider(
-            (PHASE_MARGIN_DEG - db(m.phase_deg)) / PHASE_MARGIN_DEG,
-            format!("{n}: phase_deg"),
-        );
-        consider(
-            (m.sensitivity_peak.unwrap_or(f64::INFINITY) - MAX_SENSITIVITY) / MAX_SENSITIVITY,
-            format!("{n}: sensitivity_peak"),
-        );
+    let (x, what) = margins_shortfall(&margins);
+    if x > worst.0 || x.is_nan() {
+        worst = (if x.is_nan() { f64::INFINITY } else { x }, what);
     }
     let headroom = law.v_max - inner.r0 * inner.i0;
     let kp_max = guidance.map_or(law.kp, |g| g.kp.max(law.kp));
@@ -183,6 +226,7 @@ pub fn check_guided(
         shortfall: worst.0,
         worst: worst.1,
         max_real_part: max_re,
+        pole_target: target,
         margins,
     })
 }
@@ -221,21 +265,17 @@ pub fn design(
     inner.p0 = p0;
     let mut best: Option<(Check, StateParams)> = None;
     let mut first_met = None;
-    for r in CANDIDATE_R {
-        for zeta in [0.7, 0.5, 0.9] {
-            for rho in [0.2, 0.1, 0.3] {
-                let law = place(mass, p0, &inner, base, (r, zeta, rho));
-                let c = check(v, &inner, &law, geometry, dt)?;
-                if c.shortfall <= 0.0 {
-                    if c.within_supply {
-                        return Ok(law);
-                    }
-                    first_met.get_or_insert(law);
-                }
-                if best.as_ref().is_none_or(|b| c.shortfall < b.0.shortfall) {
-                    best = Some((c, law));
-                }
+    for candidate in candidates() {
+        let law = place(mass, p0, &inner, base, candidate);
+        let c = check(v, &inner, &law, geometry, dt)?;
+        if c.shortfall <= 0.0 {
+            if c.within_supply {
+                return Ok(law);
             }
+            first_met.get_or_insert(law);
+        }
+        if best.as_ref().is_none_or(|b| c.shortfall < b.0.shortfall) {
+            best = Some((c, law));
         }
     }
     if let Some(law) = first_met {
@@ -261,30 +301,39 @@ pub enum Want<T> {
     Design,
 }
 
-/// The (r, ζ, ρ) candidates in the order they are tried (module docs).
-fn candidates() -> impl Iterator<Item = (f64, f64, f64)> {
-    CANDIDATE_R.into_iter().flat_map(|r| {
-        [0.7, 0.5, 0.9]
-            .into_iter()
-            .flat_map(move |z| [0.2, 0.1, 0.3].into_iter().map(move |rho| (r, z, rho)))
-    })
+/// The candidates in the order they are tried (module docs): every [`Placement::Spread`],
+/// then every [`Placement::Soft`].
+fn candidates() -> impl Iterator<Item = Placement> {
+    let spread = CANDIDATE_R.into_iter().flat_map(|r| {
+        [0.7, 0.5, 0.9].into_iter().flat_map(move |z| {
+            CANDIDATE_RHO
+                .into_iter()
+                .map(move |rho| Placement::Spread(r, z, rho))
+        })
+    });
+    let soft = CANDIDATE_R.into_iter().flat_map(|r| {
+        [0.3, 0.5, 0.7].into_iter().flat_map(move |z| {
+            CANDIDATE_SLOW
+                .into_iter()
+                .map(move |w| Placement::Soft(r, z, w))
+        })
+    });
+    spread.chain(soft)
 }
 
 /// The levitation and guidance gains of a guided vehicle `v` (docs/levitation.md, "Design
-/// of a guided vehicle"): decentralised, one set per magnet kind.
+/// of a guided vehicle"): decentralised, one set per magnet kind, searched together.
 ///
-/// 1. Levitation (when to be designed): each levitation candidate in order ([`place`] on
-///    the first wheel's vertical mass and load), with the guidance pairs under the first
-///    guidance candidate (or the given gains); the first whose levitation magnets meet every
-///    margin target and whose poles are left of the target is taken (preferring one within
-///    the supply).
-/// 2. Guidance (when to be designed): with those levitation gains, each guidance candidate
-///    in order ([`place_guidance`] on the first guided wheel's lateral mass); the first that
-///    meets every target on the whole vehicle — every pole, every magnet's margins — is the
-///    design (preferring one within the supply).
-///
-/// Every check is on the full linear vehicle ([`VehiclePlant::guided`]) with the delay of the
-/// margins; none found is an error naming the worst target of the best candidate.
+/// For each levitation candidate in order ([`place`] on the first wheel's vertical mass and
+/// load; only the given gains when they are given) whose levitation magnets meet every margin
+/// target and the supply headroom with the pairs at the first guidance candidate, each guidance candidate in order
+/// ([`place_guidance`] on the first guided wheel's lateral mass; only the given ones when
+/// given) is checked on the whole vehicle: every pole left of the pole target, then every
+/// magnet's margins, then the disk margin and the supply headroom ([`whole_vehicle`]). The
+/// first pair meeting every target is the design, preferring within
+/// one levitation candidate a guidance candidate within the supply. None found is an error
+/// naming the worst target of the best candidate, under `controller.state.design` when no
+/// levitation candidate met its margins, else `controller.guidance.design`.
 pub fn design_guided(
     v: &VehicleModel,
     inner: &Params,
@@ -293,6 +342,7 @@ pub fn design_guided(
     guidance: Want<GuidanceParams>,
     geometry: Geometry,
     dt: f64,
+    headroom: &dyn Fn(&StateParams, &GuidanceParams) -> crate::Result<f64>,
 ) -> crate::Result<(StateParams, GuidanceParams)> {
     let lev_wheel = v
         .wheels
@@ -329,91 +379,155 @@ pub fn design_guided(
     };
     let first_guide = guide_candidates[0];
     let is_lev = |n: &str| n.starts_with("lev");
-    let lev = match levitation {
-        Want::Given(l) => l,
-        Want::Design => {
-            let mut best: Option<(Check, StateParams)> = None;
-            let mut first_met = None;
-            let mut found = None;
-            for c in candidates() {
-                let law = place(mz, lev_inner.p0, &lev_inner, base, c);
-                let ch = check_guided(v, inner, &law, Some(&first_guide), geometry, dt, is_lev)?;
-                // Only the levitation loops' own margins decide here; the guidance gains
-                // (and with them the lateral poles) are chosen next.
-                let lev_short = ch.margins_shortfall(is_lev);
-                if lev_short <= 0.0 {
-                    if ch.within_supply {
-                        found = Some(law);
-                        break;
-                    }
-                    first_met.get_or_insert(law);
-                }
-                if best.as_ref().is_none_or(|b| lev_short < b.0.shortfall) {
-                    best = Some((
-                        Check {
-                            shortfall: lev_short,
-                            ..ch
-                        },
-                        law,
-                    ));
-                }
-            }
-            match found.or(first_met) {
-                Some(l) => l,
-                None => return Err(no_candidate("controller.state.design", best, mz, v.p0[0])),
-            }
+    let lev_candidates: Vec<StateParams> = match levitation {
+        Want::Given(l) => vec![l],
+        Want::Design => candidates()
+            .map(|c| place(mz, lev_inner.p0, &lev_inner, base, c))
+            .collect(),
+    };
+    let mut best: Option<Check> = None;
+    let keep = |best: &mut Option<Check>, c: Check| {
+        if best.as_ref().is_none_or(|b| c.shortfall < b.shortfall) {
+            *best = Some(c);
         }
     };
-    let mut best: Option<(Check, GuidanceParams)> = None;
-    let mut first_met = None;
-    for g in guide_candidates {
-        let ch = check_guided(v, inner, &lev, Some(&g), geometry, dt, |_| true)?;
-        if ch.shortfall <= 0.0 {
-            if ch.within_supply {
-                return Ok((lev, g));
+    let mut levitation_met = false;
+    for lev in lev_candidates {
+        if levitation == Want::Design {
+            // The levitation loops' own margins first, the pairs at the first guidance
+            // candidate: a candidate that misses them is not paired.
+            let ch = check_guided(v, inner, &lev, Some(&first_guide), geometry, dt, is_lev, false)?;
+            let (short, what) = margins_shortfall(&ch.margins);
+            if short > 0.0 {
+                if !levitation_met {
+                    keep(
+                        &mut best,
+                        Check {
+                        shortfall: short,
+                        worst: what,
+                        ..ch
+                    },
+                    );
+                }
+                continue;
             }
-            first_met.get_or_insert(g);
+            // The supply headroom is the levitation loops' (the rail's irregularity drives
+            // them): a candidate that spends it is not paired either.
+            let ratio = headroom(&lev, &first_guide)?;
+            if ratio > MAX_HEADROOM_RATIO {
+                if !levitation_met {
+                    keep(
+                        &mut best,
+                        Check {
+                            shortfall: (ratio - MAX_HEADROOM_RATIO) / MAX_HEADROOM_RATIO,
+                            worst: format!(
+                                "headroom_ratio: {ratio:.3} against {MAX_HEADROOM_RATIO}"
+                            ),
+                            ..ch
+                        },
+                    );
+                }
+                continue;
+            }
+            if !levitation_met {
+                best = None;
+                levitation_met = true;
+            }
         }
-        if best.as_ref().is_none_or(|b| ch.shortfall < b.0.shortfall) {
-            best = Some((ch, g));
+        let mut first_met = None;
+        for g in &guide_candidates {
+            let mut ch = check_guided(v, inner, &lev, Some(g), geometry, dt, |_| true, true)?;
+            if ch.shortfall <= 0.0 {
+                whole_vehicle(&mut ch, v, inner, &lev, g, geometry, dt, headroom)?;
+            }
+            if ch.shortfall <= 0.0 {
+                if ch.within_supply {
+                    return Ok((lev, *g));
+                }
+                first_met.get_or_insert(*g);
+            }
+            keep(&mut best, ch);
+        }
+        if let Some(g) = first_met {
+            return Ok((lev, g));
         }
     }
-    match first_met {
-        Some(g) => Ok((lev, g)),
-        None => Err(no_candidate(
-            "controller.guidance.design",
-            best,
-            my,
-            v.p0[gw],
-        )),
-    }
+    let key = if levitation == Want::Design && !levitation_met {
+        ("controller.state.design", mz, v.p0[0])
+    } else {
+        ("controller.guidance.design", my, v.p0[gw])
+    };
+    Err(no_candidate(key.0, best, key.1, key.2))
 }
 
-impl Check {
-    /// The worst margin shortfall among the magnets `counted` names (the poles aside).
-    fn margins_shortfall(&self, counted: impl Fn(&str) -> bool) -> f64 {
-        let mut worst = f64::NEG_INFINITY;
-        for m in self.margins.iter().filter(|m| counted(&m.magnet)) {
-            if !m.stable_with_delay {
-                return f64::INFINITY;
-            }
-            let db = |x: Option<f64>| x.unwrap_or(f64::INFINITY);
-            for x in [
-                (GAIN_MARGIN_DB - db(m.gain_low_db)) / GAIN_MARGIN_DB,
-                (GAIN_MARGIN_DB - db(m.gain_high_db)) / GAIN_MARGIN_DB,
-                (PHASE_MARGIN_DEG - db(m.phase_deg)) / PHASE_MARGIN_DEG,
-                (m.sensitivity_peak.unwrap_or(f64::INFINITY) - MAX_SENSITIVITY) / MAX_SENSITIVITY,
-            ] {
-                worst = worst.max(if x.is_nan() { f64::INFINITY } else { x });
+/// The whole vehicle's targets on a candidate that meets every other (they cost more): the
+/// multi-loop disk margin α ≥ [`MIN_DISK_ALPHA`] and the supply headroom (`headroom`: the
+/// largest `|V|/V_max` over the reference disturbances) ≤ [`MAX_HEADROOM_RATIO`]; a miss
+/// becomes `ch`'s worst target.
+#[allow(clippy::too_many_arguments)]
+fn whole_vehicle(
+    ch: &mut Check,
+    v: &VehicleModel,
+    inner: &Params,
+    lev: &StateParams,
+    g: &GuidanceParams,
+    geometry: Geometry,
+    dt: f64,
+    headroom: &dyn Fn(&StateParams, &GuidanceParams) -> crate::Result<f64>,
+) -> crate::Result<()> {
+    let plant = VehiclePlant::guided(v, inner, &LawKind::State(*lev), Some(g), geometry)?;
+    let delay = DELAY_PERIODS * dt / lev.periods(dt) as f64;
+    let disk = super::multiloop::vehicle_disk_margin(&plant, delay)?;
+    let alpha = disk.alpha.filter(|_| disk.stable_with_delay).unwrap_or(0.0);
+    if alpha < MIN_DISK_ALPHA {
+        ch.shortfall = (MIN_DISK_ALPHA - alpha) / MIN_DISK_ALPHA;
+        ch.worst = format!("disk_margin_alpha: {alpha:.3} against {MIN_DISK_ALPHA}");
+        return Ok(());
+    }
+    let ratio = headroom(lev, g)?;
+    if ratio > MAX_HEADROOM_RATIO {
+        ch.shortfall = (ratio - MAX_HEADROOM_RATIO) / MAX_HEADROOM_RATIO;
+        ch.worst = format!("headroom_ratio: {ratio:.3} against {MAX_HEADROOM_RATIO}");
+    }
+    Ok(())
+}
+
+/// The worst margin shortfall over `margins` and which (the poles aside; `−∞` when there
+/// are none).
+fn margins_shortfall(margins: &[Margins]) -> (f64, String) {
+    let mut worst = (f64::NEG_INFINITY, String::new());
+    for m in margins {
+        for (x, what) in shortfalls(m) {
+            let x = if x.is_nan() { f64::INFINITY } else { x };
+            if x > worst.0 {
+                worst = (x, format!("{}: {what}", m.magnet));
             }
         }
-        worst
     }
+    worst
+}
+
+/// One magnet's shortfall on each margin target (> 0: missed, relative to the target; +∞ for
+/// a loop unstable with its delay), with the target's name.
+fn shortfalls(m: &Margins) -> [(f64, &'static str); 4] {
+    if !m.stable_with_delay {
+        return [(f64::INFINITY, "unstable with the delay"); 4];
+    }
+    let db = |x: Option<f64>| x.unwrap_or(f64::INFINITY);
+    [
+        ((GAIN_MARGIN_DB - db(m.gain_low_db)) / GAIN_MARGIN_DB, "gain_low_db"),
+        ((GAIN_MARGIN_DB - db(m.gain_high_db)) / GAIN_MARGIN_DB, "gain_high_db"),
+        ((PHASE_MARGIN_DEG - db(m.phase_deg)) / PHASE_MARGIN_DEG, "phase_deg"),
+        (
+            (m.sensitivity_peak.unwrap_or(f64::INFINITY) - MAX_SENSITIVITY) / MAX_SENSITIVITY,
+            "sensitivity_peak",
+        ),
+    ]
 }
 
 /// The refusal of a design that found no candidate, naming `key` and the best's worst target.
-fn no_candidate<T>(key: &str, best: Option<(Check, T)>, mass: f64, p0: f64) -> crate::Error {
-    let worst = best.map_or(String::new(), |b| b.0.worst);
+fn no_candidate(key: &str, best: Option<Check>, mass: f64, p0: f64) -> crate::Error {
+    let worst = best.map_or(String::new(), |b| b.worst);
     crate::Error::invalid(
         key,
         format!(
