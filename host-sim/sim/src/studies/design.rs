@@ -70,12 +70,17 @@ fn resolve_guided(mut case: Case) -> Result<Case> {
     // candidate's gains.
     let headroom = |lev: &maglev_core::law::state::StateParams,
                     g: &maglev_core::law::guidance::GuidanceParams|
-     -> Result<f64> {
+     -> Result<(f64, String)> {
         let mut c = case.clone();
         c.law = LawChoice::Given(LawKind::State(*lev));
         c.guidance = GuidanceChoice::Given(*g);
         let h = crate::studies::stability::headroom::headroom(&c)?;
-        Ok(h.ratio.unwrap_or(0.0))
+        let worst = h
+            .disturbances
+            .iter()
+            .max_by(|a, b| a.peak_V.total_cmp(&b.peak_V))
+            .map_or(String::new(), |p| p.magnet.clone());
+        Ok((h.ratio.unwrap_or(0.0), worst))
     };
     let (lev, guide) = design_guided(
         &v,

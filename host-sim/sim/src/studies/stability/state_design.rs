@@ -37,11 +37,11 @@
 //! common mode has no integral.
 
 use super::margins::Margins;
+use super::report::DELAY_PERIODS;
 use super::targets::{
     GAIN_MARGIN_DB, MAX_HEADROOM_RATIO, MAX_REAL_PART, MAX_SENSITIVITY, MIN_DISK_ALPHA,
     PHASE_MARGIN_DEG,
 };
-use super::report::DELAY_PERIODS;
 use super::vehicle::VehiclePlant;
 use crate::physics::vehicle::VehicleModel;
 use maglev_core::gap::Geometry;
@@ -49,7 +49,6 @@ use maglev_core::law::guidance::GuidanceParams;
 use maglev_core::law::state::StateParams;
 use maglev_core::levitation::GRAVITY;
 use maglev_core::{LawKind, Params};
-
 
 /// The bandwidths tried, in units of the magnet's unstable pole `√c`, in order.
 pub const CANDIDATE_R: [f64; 9] = [1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0];
@@ -301,24 +300,38 @@ pub enum Want<T> {
     Design,
 }
 
-/// The candidates in the order they are tried (module docs): every [`Placement::Spread`],
-/// then every [`Placement::Soft`].
+/// The levitation candidates in the order they are tried (module docs): every
+/// [`Placement::Spread`], then every [`Placement::Soft`].
 fn candidates() -> impl Iterator<Item = Placement> {
-    let spread = CANDIDATE_R.into_iter().flat_map(|r| {
+    spread().chain(soft())
+}
+
+/// The guidance candidates in the order they are tried: the soft ones first. A guidance
+/// pair holds the body's sway and yaw on its springs, the vehicle's slowest modes, which a
+/// loop soft at their frequencies damps (measured on the Fig. 1 car at 200, 1000 and
+/// 2000 kg: each design's guidance gains are a soft candidate).
+fn guidance_candidates() -> impl Iterator<Item = Placement> {
+    soft().chain(spread())
+}
+
+fn spread() -> impl Iterator<Item = Placement> {
+    CANDIDATE_R.into_iter().flat_map(|r| {
         [0.7, 0.5, 0.9].into_iter().flat_map(move |z| {
             CANDIDATE_RHO
                 .into_iter()
                 .map(move |rho| Placement::Spread(r, z, rho))
         })
-    });
-    let soft = CANDIDATE_R.into_iter().flat_map(|r| {
+    })
+}
+
+fn soft() -> impl Iterator<Item = Placement> {
+    CANDIDATE_R.into_iter().flat_map(|r| {
         [0.3, 0.5, 0.7].into_iter().flat_map(move |z| {
             CANDIDATE_SLOW
                 .into_iter()
                 .map(move |w| Placement::Soft(r, z, w))
         })
-    });
-    spread.chain(soft)
+    })
 }
 
 /// The levitation and guidance gains of a guided vehicle `v` (docs/levitation.md, "Design
@@ -328,7 +341,7 @@ fn candidates() -> impl Iterator<Item = Placement> {
 /// load; only the given gains when they are given) whose levitation magnets meet every margin
 /// target and the supply headroom with the pairs at the first guidance candidate, each guidance candidate in order
 /// ([`place_guidance`] on the first guided wheel's lateral mass; only the given ones when
-/// given) is checked on the whole vehicle: every pole left of the pole target, then every
+/// given; the soft placements first, [`guidance_candidates`]) is checked on the whole vehicle: every pole left of the pole target, then every
 /// magnet's margins, then the disk margin and the supply headroom ([`whole_vehicle`]). The
 /// first pair meeting every target is the design, preferring within
 /// one levitation candidate a guidance candidate within the supply. None found is an error
@@ -342,7 +355,7 @@ pub fn design_guided(
     guidance: Want<GuidanceParams>,
     geometry: Geometry,
     dt: f64,
-    headroom: &dyn Fn(&StateParams, &GuidanceParams) -> crate::Result<f64>,
+    headroom: &dyn Fn(&StateParams, &GuidanceParams) -> crate::Result<(f64, String)>,
 ) -> crate::Result<(StateParams, GuidanceParams)> {
     let lev_wheel = v
         .wheels
@@ -373,7 +386,7 @@ pub fn design_guided(
     let (lev_inner, guide_inner) = (with_p0(v.p0[0]), with_p0(v.p0[gw]));
     let guide_candidates: Vec<GuidanceParams> = match guidance {
         Want::Given(g) => vec![g],
-        Want::Design => candidates()
+        Want::Design => guidance_candidates()
             .map(|c| place_guidance(my, guide_inner.p0, &guide_inner, base, c))
             .collect(),
     };
@@ -396,24 +409,38 @@ pub fn design_guided(
         if levitation == Want::Design {
             // The levitation loops' own margins first, the pairs at the first guidance
             // candidate: a candidate that misses them is not paired.
-            let ch = check_guided(v, inner, &lev, Some(&first_guide), geometry, dt, is_lev, false)?;
+            let ch = check_guided(
+                v,
+                inner,
+                &lev,
+                Some(&first_guide),
+                geometry,
+                dt,
+                is_lev,
+                false,
+            )?;
             let (short, what) = margins_shortfall(&ch.margins);
             if short > 0.0 {
                 if !levitation_met {
                     keep(
                         &mut best,
                         Check {
-                        shortfall: short,
-                        worst: what,
-                        ..ch
-                    },
+                            shortfall: short,
+                            worst: what,
+                            ..ch
+                        },
                     );
                 }
                 continue;
             }
             // The supply headroom is the levitation loops' (the rail's irregularity drives
-            // them): a candidate that spends it is not paired either.
-            let ratio = headroom(&lev, &first_guide)?;
+            // them): a candidate that spends it is not paired either. (Only where the first
+            // guidance candidate leaves the vehicle stable: an unstable response says nothing.)
+            let ratio = if ch.max_real_part < 0.0 {
+                headroom(&lev, &first_guide)?.0
+            } else {
+                0.0
+            };
             if ratio > MAX_HEADROOM_RATIO {
                 if !levitation_met {
                     keep(
@@ -437,8 +464,10 @@ pub fn design_guided(
         let mut first_met = None;
         for g in &guide_candidates {
             let mut ch = check_guided(v, inner, &lev, Some(g), geometry, dt, |_| true, true)?;
+            let mut levitation_spent = false;
             if ch.shortfall <= 0.0 {
-                whole_vehicle(&mut ch, v, inner, &lev, g, geometry, dt, headroom)?;
+                levitation_spent =
+                    whole_vehicle(&mut ch, v, inner, &lev, g, geometry, dt, headroom)?;
             }
             if ch.shortfall <= 0.0 {
                 if ch.within_supply {
@@ -447,6 +476,10 @@ pub fn design_guided(
                 first_met.get_or_insert(*g);
             }
             keep(&mut best, ch);
+            if levitation_spent {
+                // A levitation magnet spent the supply: no guidance gain changes that.
+                break;
+            }
         }
         if let Some(g) = first_met {
             return Ok((lev, g));
@@ -462,8 +495,9 @@ pub fn design_guided(
 
 /// The whole vehicle's targets on a candidate that meets every other (they cost more): the
 /// multi-loop disk margin α ≥ [`MIN_DISK_ALPHA`] and the supply headroom (`headroom`: the
-/// largest `|V|/V_max` over the reference disturbances) ≤ [`MAX_HEADROOM_RATIO`]; a miss
-/// becomes `ch`'s worst target.
+/// largest `|V|/V_max` over the reference disturbances, and the magnet) ≤
+/// [`MAX_HEADROOM_RATIO`]; a miss becomes `ch`'s worst target. True when the headroom is
+/// missed at a levitation magnet.
 #[allow(clippy::too_many_arguments)]
 fn whole_vehicle(
     ch: &mut Check,
@@ -473,8 +507,8 @@ fn whole_vehicle(
     g: &GuidanceParams,
     geometry: Geometry,
     dt: f64,
-    headroom: &dyn Fn(&StateParams, &GuidanceParams) -> crate::Result<f64>,
-) -> crate::Result<()> {
+    headroom: &dyn Fn(&StateParams, &GuidanceParams) -> crate::Result<(f64, String)>,
+) -> crate::Result<bool> {
     let plant = VehiclePlant::guided(v, inner, &LawKind::State(*lev), Some(g), geometry)?;
     let delay = DELAY_PERIODS * dt / lev.periods(dt) as f64;
     let disk = super::multiloop::vehicle_disk_margin(&plant, delay)?;
@@ -482,14 +516,15 @@ fn whole_vehicle(
     if alpha < MIN_DISK_ALPHA {
         ch.shortfall = (MIN_DISK_ALPHA - alpha) / MIN_DISK_ALPHA;
         ch.worst = format!("disk_margin_alpha: {alpha:.3} against {MIN_DISK_ALPHA}");
-        return Ok(());
+        return Ok(false);
     }
-    let ratio = headroom(lev, g)?;
+    let (ratio, magnet) = headroom(lev, g)?;
     if ratio > MAX_HEADROOM_RATIO {
         ch.shortfall = (ratio - MAX_HEADROOM_RATIO) / MAX_HEADROOM_RATIO;
-        ch.worst = format!("headroom_ratio: {ratio:.3} against {MAX_HEADROOM_RATIO}");
+        ch.worst = format!("{magnet}: headroom_ratio {ratio:.3} against {MAX_HEADROOM_RATIO}");
+        return Ok(magnet.starts_with("lev"));
     }
-    Ok(())
+    Ok(false)
 }
 
 /// The worst margin shortfall over `margins` and which (the poles aside; `−∞` when there
@@ -515,9 +550,18 @@ fn shortfalls(m: &Margins) -> [(f64, &'static str); 4] {
     }
     let db = |x: Option<f64>| x.unwrap_or(f64::INFINITY);
     [
-        ((GAIN_MARGIN_DB - db(m.gain_low_db)) / GAIN_MARGIN_DB, "gain_low_db"),
-        ((GAIN_MARGIN_DB - db(m.gain_high_db)) / GAIN_MARGIN_DB, "gain_high_db"),
-        ((PHASE_MARGIN_DEG - db(m.phase_deg)) / PHASE_MARGIN_DEG, "phase_deg"),
+        (
+            (GAIN_MARGIN_DB - db(m.gain_low_db)) / GAIN_MARGIN_DB,
+            "gain_low_db",
+        ),
+        (
+            (GAIN_MARGIN_DB - db(m.gain_high_db)) / GAIN_MARGIN_DB,
+            "gain_high_db",
+        ),
+        (
+            (PHASE_MARGIN_DEG - db(m.phase_deg)) / PHASE_MARGIN_DEG,
+            "phase_deg",
+        ),
         (
             (m.sensitivity_peak.unwrap_or(f64::INFINITY) - MAX_SENSITIVITY) / MAX_SENSITIVITY,
             "sensitivity_peak",

@@ -22,11 +22,7 @@ use nalgebra::DMatrix;
 /// (descending real part); empty when no DOF is left (the bare magnet). An error when a
 /// remaining DOF has no mass.
 pub fn held_poles(v: &VehicleModel) -> crate::Result<Vec<Complex>> {
-    let magnet = |i: usize| {
-        v.wheels
-            .iter()
-            .any(|w| w.dof_z == i || w.dof_y == Some(i))
-    };
+    let magnet = |i: usize| v.wheels.iter().any(|w| w.dof_z == i || w.dof_y == Some(i));
     let keep: Vec<usize> = (0..v.m.nrows()).filter(|&i| !magnet(i)).collect();
     let n = keep.len();
     if n == 0 {
@@ -53,9 +49,7 @@ pub fn held_poles(v: &VehicleModel) -> crate::Result<Vec<Complex>> {
 /// own target, 1/s) and the held suspension's slowest pole when that is stable (a suspension
 /// with an undamped or unrestrained mode leaves the target at `loops`).
 pub fn pole_target(v: &VehicleModel, loops: f64) -> crate::Result<f64> {
-    let slowest = held_poles(v)?
-        .first()
-        .map_or(f64::NEG_INFINITY, |p| p.re);
+    let slowest = held_poles(v)?.first().map_or(f64::NEG_INFINITY, |p| p.re);
     Ok(if slowest < 0.0 {
         loops.max(slowest)
     } else {

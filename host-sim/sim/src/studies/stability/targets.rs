@@ -59,12 +59,26 @@ pub struct Inputs<'a> {
 
 fn at_most(name: &'static str, value: Option<f64>, limit: f64, at: String) -> Target {
     let met = value.is_some_and(|v| v <= limit);
-    Target { name, value, sense: "<=", limit, met, at }
+    Target {
+        name,
+        value,
+        sense: "<=",
+        limit,
+        met,
+        at,
+    }
 }
 
 fn at_least(name: &'static str, value: Option<f64>, limit: f64, at: String) -> Target {
     let met = value.is_some_and(|v| v >= limit);
-    Target { name, value, sense: ">=", limit, met, at }
+    Target {
+        name,
+        value,
+        sense: ">=",
+        limit,
+        met,
+        at,
+    }
 }
 
 /// The worst of one margin over the magnets (`key` reads it, `None` for a loop unstable with
@@ -104,12 +118,7 @@ pub fn targets(x: &Inputs) -> Targets {
             x.pole_target,
             String::new(),
         ),
-        at_most(
-            "zero_poles",
-            Some(x.zero_poles as f64),
-            0.0,
-            String::new(),
-        ),
+        at_most("zero_poles", Some(x.zero_poles as f64), 0.0, String::new()),
         at_least("gain_low_db", low, GAIN_MARGIN_DB, low_at),
         at_least("gain_high_db", high, GAIN_MARGIN_DB, high_at),
         at_least("phase_deg", phase, PHASE_MARGIN_DEG, phase_at),
