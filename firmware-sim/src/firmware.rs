@@ -26,6 +26,11 @@
 //! is the period: 12 channels × (SPI + update) must finish in 100 µs; the instruction counts
 //! per tick are measured on the QEMU image (see docs/hil.md).
 //!
+//! # Guidance
+//! With `Config::guidance` the guidance pairs run the core's guidance law instead of each
+//! magnet's own law ([`crate::guide`]): the tick's levitation channels as before, then one
+//! guidance update per pair on its two samples of the same tick.
+//!
 //! # Snapshot and restore
 //! The whole mutable state is one `Copy` value, [`FwState`]: the server restores the
 //! committed one before every host step, so a step can be re-run (Newton iterations).
@@ -36,6 +41,7 @@
 
 use crate::accel::Accelerometer;
 use crate::adc::read_channel;
+use crate::guide::{Pairs, MAX_PAIRS};
 use crate::hbridge::duty_for;
 use crate::protocol::{ChannelOut, Config, ConfigFault, ConfigKey, Problem, MAX_CHANNELS};
 use crate::supervision::{check, Event, Limits, Mode, SensorState};
@@ -43,6 +49,7 @@ use crate::validate::{check_config, law_fault};
 use embedded_hal::pwm::SetDutyCycle;
 use embedded_hal::spi::SpiDevice;
 use heapless::Vec;
+use maglev_core::law::guidance::GuidanceState;
 use maglev_core::{
     Interpolation, Law, LawParams, LawState, Levitation, Measurement, Output, Params, Scalar,
     Status,
@@ -69,6 +76,10 @@ pub struct ChannelState<S> {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FwState<S> {
     pub ch: [ChannelState<S>; MAX_CHANNELS],
+    /// The guidance pairs' law states (with `Config::guidance`; their coils are copied into
+    /// the channels' `law.inner` after every update, so outputs and the fault ramp read them
+    /// there).
+    pub pairs: [GuidanceState<S>; MAX_PAIRS],
     pub mode: Mode,
     pub ramp_left: u16,
     pub tick: u64,
@@ -90,6 +101,8 @@ pub struct Firmware<S, SPI, PWM, ACC> {
     /// Every channel runs the paper's law (called without the law type's dispatch).
     paper: bool,
     laws: Vec<Law<S>, MAX_CHANNELS>,
+    /// The guidance pairs' law, with `Config::guidance`.
+    pairs: Option<Pairs<S>>,
     coils: Vec<Levitation<S>, MAX_CHANNELS>,
     /// `h/h0` of code 0, and of the full 2^bits span.
     gap_offset: S,
@@ -202,6 +215,26 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
             let _ = laws.push(law);
             let _ = coils.push(coil);
         }
+        let magnet = |k: usize| Params {
+            p0: cfg.channels[k].p0,
+            ..*coils[k].params()
+        };
+        let pairs = match Pairs::compile(cfg, |k| Params {
+            kp: cfg.kp,
+            ki: cfg.ki,
+            v_max: cfg.v_max,
+            ..magnet(k)
+        })? {
+            Some((pairs, states)) => {
+                for (w, s) in states.iter().enumerate().take(pairs.len()) {
+                    st.ch[3 * w + 1].law.inner = s.left;
+                    st.ch[3 * w + 2].law.inner = s.right;
+                }
+                st.pairs = states;
+                Some(pairs)
+            }
+            None => None,
+        };
         let mut ov = false;
         let span_m = (1u32 << cfg.adc_bits) as f64 * cfg.adc_lsb_m;
         let gap_offset = S::from_f64(cfg.adc_offset_m / cfg.h0, &mut ov);
@@ -234,6 +267,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
             accel_span,
             paper: cfg.law.batches(),
             laws,
+            pairs,
             coils,
             gap_offset,
             gap_span,
@@ -418,7 +452,12 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
                 self.drive(k, &out, &mut events);
             }
         } else {
+            // With guidance pairs, the channels of a pair are the pair law's (below).
+            let guided = self.pairs.is_some();
             for (k, &code) in codes.iter().enumerate().take(n) {
+                if guided && !k.is_multiple_of(3) {
+                    continue;
+                }
                 let h = self.gap_pu(code);
                 let wired = self.accel_mask & (1 << k) != 0;
                 let accel = wired.then(|| self.accel_pu(self.st.ch[k].accel));
@@ -429,6 +468,9 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
                 };
                 let out = law_update(&self.laws[k], &mut self.st.ch[k].law, m);
                 self.drive(k, &out, &mut events);
+            }
+            if guided {
+                self.guide(&codes, &mut events);
             }
         }
         if self.st.mode == Mode::Ramp {
@@ -442,6 +484,34 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
         }
         self.st.tick += 1;
         events
+    }
+
+    /// One period of every guidance pair on its channels' codes ([`crate::guide`]); out of
+    /// line, as [`law_update`].
+    #[inline(never)]
+    fn guide(&mut self, codes: &[u16; MAX_CHANNELS], events: &mut Event) {
+        let Some(pairs) = &self.pairs else {
+            return;
+        };
+        let mut volts = [(S::ZERO, S::ZERO); MAX_PAIRS];
+        for (w, v) in volts.iter_mut().enumerate().take(pairs.len()) {
+            let (l, r) = (3 * w + 1, 3 * w + 2);
+            let gaps = (self.gap_pu(codes[l]), self.gap_pu(codes[r]));
+            let wired = self.accel_mask & (1 << l) != 0;
+            let accel = wired.then(|| pairs.accel_pu(self.st.ch[l].accel));
+            let out = pairs.update(w, &mut self.st.pairs[w], gaps, accel);
+            self.st.ch[l].law.inner = self.st.pairs[w].left;
+            self.st.ch[r].law.inner = self.st.pairs[w].right;
+            events.raise(map_status(out.status));
+            *v = (out.left.voltage, out.right.voltage);
+        }
+        for (w, &(v_l, v_r)) in volts.iter().enumerate().take(pairs.len()) {
+            let clip_l = self.apply(3 * w + 1, v_l);
+            let clip_r = self.apply(3 * w + 2, v_r);
+            if clip_l || clip_r {
+                events.raise(Event::PWM_CLIPPED);
+            }
+        }
     }
 
     /// Channel `k`'s `g/g0`, coil current `i/i0` (both Q4.28) and duty.

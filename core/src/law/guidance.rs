@@ -96,6 +96,18 @@ pub mod fields {
 }
 
 impl GuidanceParams {
+    /// The five gains of the levitation state law `s` on the differential mode (the pair
+    /// then gives the levitation law's voltages to rounding in the linear range: module docs).
+    pub fn same_as(s: &StateParams) -> Self {
+        GuidanceParams {
+            kp: s.kp,
+            kd: s.kd,
+            ka: s.ka,
+            ki: s.ki,
+            kc: s.kc,
+        }
+    }
+
     /// The gains in order `kp, kd, ka, ki, kc` with their fields.
     pub fn gains(&self) -> [(Field, f64); 5] {
         [

@@ -35,6 +35,7 @@ fn config(scalar: ScalarKind, law: LawKind) -> Config {
         ramp_ticks: 4,
         watchdog_ticks: 3,
         geometry: Geometry::Ems,
+        guidance: None,
     }
 }
 
@@ -117,6 +118,7 @@ fn main() {
         rate_hz: 10_000.0,
         observer_hz: 300.0,
         geometry: Geometry::Ems,
+        guidance: None,
     });
     let accel = |z: i16| -> HVec<i16, MAX_SAMPLES> { HVec::from_slice(&[z, z + 1]).unwrap() };
     seeds.push((
