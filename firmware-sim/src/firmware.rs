@@ -160,10 +160,43 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
                 problem: Problem::OutOfRange,
             });
         }
-        let mut laws = Vec::new();
-        let mut coils = Vec::new();
-        let mut st = FwState::<S>::default();
         let full_scale = ((1u32 << cfg.adc_bits) - 1) as u16;
+        let mut ov = false;
+        let span_m = (1u32 << cfg.adc_bits) as f64 * cfg.adc_lsb_m;
+        let gap_offset = S::from_f64(cfg.adc_offset_m / cfg.h0, &mut ov);
+        let gap_span = S::from_f64(span_m / cfg.h0, &mut ov);
+        let ramp_step = S::from_f64(1.0 / cfg.ramp_ticks as f64, &mut ov);
+        let lsb = crate::accel::LSB_G_16G;
+        let mut accel_ov = false;
+        let accel_offset = S::from_f64(-32768.0 * lsb - 1.0, &mut accel_ov);
+        let accel_span = S::from_f64(65536.0 * lsb, &mut accel_ov);
+        // Built first and filled in place: one copy of the firmware on the stack (the
+        // Cortex-M0 image's 64 KiB hold it and the harness).
+        let mut fw = Firmware {
+            spi,
+            pwm,
+            accels: drivers,
+            accel_mask: 0,
+            accel_offset,
+            accel_span,
+            paper: cfg.law.batches(),
+            laws: Vec::new(),
+            pairs: None,
+            coils: Vec::new(),
+            gap_offset,
+            gap_span,
+            adc_bits: cfg.adc_bits,
+            full_scale,
+            v_to_frac: (cfg.r0 * cfg.i0 / cfg.v_dc) as f32,
+            delay: cfg.delay,
+            limits: Limits {
+                hold_ticks: cfg.hold_ticks,
+                stuck_ticks: cfg.stuck_ticks,
+                ramp_ticks: cfg.ramp_ticks,
+            },
+            ramp_step,
+            st: FwState::default(),
+        };
         for (k, ch) in cfg.channels.iter().enumerate() {
             let p = Params {
                 i0: cfg.i0,
@@ -195,7 +228,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
             .map_err(|e| law_fault(e, channel))?;
             let code = libm::round((ch.gap - cfg.adc_offset_m) / cfg.adc_lsb_m)
                 .clamp(1.0, full_scale as f64 - 1.0) as u16;
-            st.ch[k] = ChannelState {
+            fw.st.ch[k] = ChannelState {
                 law: law
                     .try_equilibrium_state(ch.gap)
                     .map_err(|e| law_fault(e, channel))?,
@@ -212,38 +245,9 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
                 ramp_from: S::ONE,
                 duty: 0,
             };
-            let _ = laws.push(law);
-            let _ = coils.push(coil);
+            let _ = fw.laws.push(law);
+            let _ = fw.coils.push(coil);
         }
-        let magnet = |k: usize| Params {
-            p0: cfg.channels[k].p0,
-            ..*coils[k].params()
-        };
-        let pairs = match Pairs::compile(cfg, |k| Params {
-            kp: cfg.kp,
-            ki: cfg.ki,
-            v_max: cfg.v_max,
-            ..magnet(k)
-        })? {
-            Some((pairs, states)) => {
-                for (w, s) in states.iter().enumerate().take(pairs.len()) {
-                    st.ch[3 * w + 1].law.inner = s.left;
-                    st.ch[3 * w + 2].law.inner = s.right;
-                }
-                st.pairs = states;
-                Some(pairs)
-            }
-            None => None,
-        };
-        let mut ov = false;
-        let span_m = (1u32 << cfg.adc_bits) as f64 * cfg.adc_lsb_m;
-        let gap_offset = S::from_f64(cfg.adc_offset_m / cfg.h0, &mut ov);
-        let gap_span = S::from_f64(span_m / cfg.h0, &mut ov);
-        let ramp_step = S::from_f64(1.0 / cfg.ramp_ticks as f64, &mut ov);
-        let lsb = crate::accel::LSB_G_16G;
-        let mut accel_ov = false;
-        let accel_offset = S::from_f64(-32768.0 * lsb - 1.0, &mut accel_ov);
-        let accel_span = S::from_f64(65536.0 * lsb, &mut accel_ov);
         if accel_ov && state {
             return Err(ConfigFault {
                 key: ConfigKey::Accelerometer,
@@ -258,31 +262,25 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
                 problem: Problem::Unrepresentable,
             });
         }
-        let mut fw = Firmware {
-            spi,
-            pwm,
-            accels: drivers,
-            accel_mask: 0,
-            accel_offset,
-            accel_span,
-            paper: cfg.law.batches(),
-            laws,
-            pairs,
-            coils,
-            gap_offset,
-            gap_span,
-            adc_bits: cfg.adc_bits,
-            full_scale,
-            v_to_frac: (cfg.r0 * cfg.i0 / cfg.v_dc) as f32,
-            delay: cfg.delay,
-            limits: Limits {
-                hold_ticks: cfg.hold_ticks,
-                stuck_ticks: cfg.stuck_ticks,
-                ramp_ticks: cfg.ramp_ticks,
+        // The pairs after the rest, compiled into their place (no second copy on the stack:
+        // the Cortex-M0 image's 64 KiB hold the whole firmware).
+        fw.pairs = Pairs::compile(
+            cfg,
+            |k| Params {
+                p0: cfg.channels[k].p0,
+                kp: cfg.kp,
+                ki: cfg.ki,
+                v_max: cfg.v_max,
+                ..*fw.coils[k].params()
             },
-            ramp_step,
-            st,
-        };
+            &mut fw.st.pairs,
+        )?;
+        if let Some(pairs) = &fw.pairs {
+            for (w, s) in fw.st.pairs.iter().enumerate().take(pairs.len()) {
+                fw.st.ch[3 * w + 1].law.inner = s.left;
+                fw.st.ch[3 * w + 2].law.inner = s.right;
+            }
+        }
         for k in 0..n {
             let v = fw.st.ch[k].law.inner.v;
             let _ = fw.apply(k, v);

@@ -50,14 +50,15 @@ fn guidance_fault(problem: Problem) -> ConfigFault {
 
 impl<S: Scalar> Pairs<S> {
     /// The pairs of `cfg` (`None` without [`Config::guidance`]), each compiled over its left
-    /// channel's magnet `magnet(k)`; with the pairs' states in equilibrium at the channels'
-    /// initial gaps. A guidance law outside the state law, channels not in threes, or gains
-    /// the core refuses, are refused as [`ConfigKey::Guidance`].
-    #[allow(clippy::type_complexity)]
+    /// channel's magnet `magnet(k)`, with their states in equilibrium at the channels'
+    /// initial gaps written to `states`. A guidance law outside the state law, channels not
+    /// in threes, or gains the core refuses, are refused as [`ConfigKey::Guidance`].
+    #[inline(never)]
     pub fn compile(
         cfg: &Config,
         magnet: impl Fn(usize) -> Params,
-    ) -> Result<Option<(Self, [GuidanceState<S>; MAX_PAIRS])>, ConfigFault> {
+        states: &mut [GuidanceState<S>; MAX_PAIRS],
+    ) -> Result<Option<Self>, ConfigFault> {
         let Some(g) = cfg.guidance else {
             return Ok(None);
         };
@@ -67,7 +68,6 @@ impl<S: Scalar> Pairs<S> {
             return Err(guidance_fault(Problem::OutOfRange));
         }
         let mut laws = Vec::new();
-        let mut states = [GuidanceState::default(); MAX_PAIRS];
         for (w, st) in states.iter_mut().enumerate().take(n / 3) {
             let (l, r) = (3 * w + 1, 3 * w + 2);
             let law = g.compile::<S>(timing, &magnet(l)).map_err(|e| {
@@ -94,7 +94,7 @@ impl<S: Scalar> Pairs<S> {
         if ov {
             return Err(guidance_fault(Problem::Unrepresentable));
         }
-        Ok(Some((pairs, states)))
+        Ok(Some(pairs))
     }
 
     /// Number of pairs.

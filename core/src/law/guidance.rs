@@ -278,8 +278,24 @@ impl<S: Scalar> GuidanceLaw<S> {
 
     /// One structural step of both magnets to the measurement at its end (module docs);
     /// the net lateral force per unit `p0` by `geometry` ([`Geometry::guidance_force`]).
-    /// Never panics: events in the status.
+    /// Never panics: events in the status. One control period in floating point (the
+    /// firmware's case) takes a straight-line path with the same bits ([`fast`]).
     pub fn update(
+        &self,
+        st: &mut GuidanceState<S>,
+        m: PairMeasurement<S>,
+        geometry: Geometry,
+    ) -> PairOutput<S> {
+        if let Some(out) = self.fast_update(st, m, geometry) {
+            return out;
+        }
+        self.general_update(st, m, geometry)
+    }
+
+    /// [`GuidanceLaw::update`] with every operation checked, any number of periods; out of
+    /// line, so that the fast path's prologue stays small.
+    #[inline(never)]
+    pub(crate) fn general_update(
         &self,
         st: &mut GuidanceState<S>,
         m: PairMeasurement<S>,
@@ -366,5 +382,6 @@ impl<S: Scalar> GuidanceLaw<S> {
     }
 }
 
+mod fast;
 #[cfg(test)]
 mod tests;
