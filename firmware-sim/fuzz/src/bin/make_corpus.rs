@@ -118,7 +118,6 @@ fn main() {
         rate_hz: 10_000.0,
         observer_hz: 300.0,
         geometry: Geometry::Ems,
-        guidance: None,
     });
     let accel = |z: i16| -> HVec<i16, MAX_SAMPLES> { HVec::from_slice(&[z, z + 1]).unwrap() };
     seeds.push((
