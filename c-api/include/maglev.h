@@ -166,6 +166,16 @@ enum maglev_error
   // A storage pointer is not aligned for its type (law and state: `MAGLEV_ALIGN`;
   // measurement and output: 4).
   MAGLEV_ERROR_ALIGNMENT = 35,
+  // `maglev_guidance_params.kp_V_per_m`: finite, ≥ 0.
+  MAGLEV_ERROR_GUIDANCE_KP = 36,
+  // `maglev_guidance_params.kd_V_s_per_m`: finite, ≥ 0.
+  MAGLEV_ERROR_GUIDANCE_KD = 37,
+  // `maglev_guidance_params.ka_V_s2_per_m`: finite, ≥ 0.
+  MAGLEV_ERROR_GUIDANCE_KA = 38,
+  // `maglev_guidance_params.ki_V_per_m_s`: finite, ≥ 0.
+  MAGLEV_ERROR_GUIDANCE_KI = 39,
+  // `maglev_guidance_params.kc_V_per_A`: finite, ≥ 0.
+  MAGLEV_ERROR_GUIDANCE_KC = 40,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -301,6 +311,82 @@ typedef struct maglev_state_view_f32 {
   float v;
 } maglev_state_view_f32;
 
+// The guidance law's gains on the pair's differential mode, SI (`maglev_core`'s
+// `GuidanceParams`; the keys of `[controller.guidance]`).
+typedef struct maglev_guidance_params {
+  // Lateral offset gain (V/m), ≥ 0.
+  double kp_V_per_m;
+  // Lateral rate gain (V·s/m), ≥ 0.
+  double kd_V_s_per_m;
+  // Lateral acceleration gain (V·s²/m), ≥ 0.
+  double ka_V_s2_per_m;
+  // Integral gain on the lateral offset (V/(m·s)), ≥ 0.
+  double ki_V_per_m_s;
+  // Current gain on both modes (V/A), ≥ 0.
+  double kc_V_per_A;
+} maglev_guidance_params;
+
+// A compiled guidance law (`float`), caller-owned: `MAGLEV_LAW_SIZE` bytes, aligned to
+// `MAGLEV_ALIGN`. Written by `maglev_guidance_init_f32`; read-only afterwards.
+typedef struct maglev_guidance_law_f32 {
+  // Opaque.
+  uint64_t opaque[MAGLEV_LAW_WORDS];
+} maglev_guidance_law_f32;
+
+// One coil of a pair (`float`), per unit deviations: the core's `State<f32>`.
+typedef struct maglev_coil_state_f32 {
+  // `g/g0 − 1`.
+  float x;
+  // The coil's voltage less 1, per unit, held over the period.
+  float y;
+  // `h/h0_m − 1` of the last sample.
+  float eta;
+  // `h/h0_m − 1` one step earlier (unused by the guidance law).
+  float eta_prev;
+  // Coil voltage `V/(r0_ohm·i0_A)` at the end of the last step.
+  float v;
+} maglev_coil_state_f32;
+
+// A guidance pair's state (`float`): the core's `GuidanceState<f32>`.
+typedef struct maglev_guidance_state_f32 {
+  // Left coil (gap `h0 + d`).
+  struct maglev_coil_state_f32 left;
+  // Right coil (gap `h0 − d`).
+  struct maglev_coil_state_f32 right;
+  // The integral's voltage, per unit.
+  float integral;
+  // Observer: estimated `d/h0_m`.
+  float eta_est;
+  // Observer: its rate (1/s).
+  float rate_est;
+  // `a_y/g_n` of the last sample.
+  float accel;
+} maglev_guidance_state_f32;
+
+// What the pair's law reads at the end of a step, per unit.
+typedef struct maglev_pair_measurement_f32 {
+  // Lateral offset `d/h0_m` (the left gap is `h0·(1 + d)`, the right `h0·(1 − d)`).
+  float d_pu;
+  // The magnet's absolute lateral acceleration `a_y/g_n` (+Y opens the left gap); read if
+  // `flags & MAGLEV_MEASURED_ACCEL`.
+  float accel_y_g;
+  // `MAGLEV_MEASURED_ACCEL` or 0.
+  uint32_t flags;
+} maglev_pair_measurement_f32;
+
+// One pair update's result: each magnet's output and the net lateral force.
+typedef struct maglev_pair_output_f32 {
+  // Left magnet.
+  struct maglev_output_f32 left;
+  // Right magnet.
+  struct maglev_output_f32 right;
+  // Net lateral force on the wheel, per unit of `p0_N`, along +Y.
+  float force_y_pu;
+  // `MAGLEV_STATUS_*` bits of the pair (both magnets, and `_VOLTAGE_SATURATED` when
+  // either coil's voltage was clamped).
+  uint32_t status;
+} maglev_pair_output_f32;
+
 // A compiled law (Q4.28), caller-owned: `MAGLEV_LAW_SIZE` bytes, aligned to `MAGLEV_ALIGN`.
 // Written by `maglev_law_init_q28`; read-only afterwards; one law may drive many states.
 typedef struct maglev_law_q28 {
@@ -409,6 +495,42 @@ int32_t maglev_law_update_f32(const struct maglev_law_f32 *law,
 // `state` NULL or a `maglev_state_f32`; `out` NULL or a writable `maglev_state_view_f32`.
 int32_t maglev_state_read_f32(const struct maglev_state_f32 *state,
                               struct maglev_state_view_f32 *out);
+
+// Checks `*params` (the magnet, with `law = MAGLEV_LAW_STATE`: the pair shares the state
+// law's timing, supply and geometry; the state law's own gains are not used) and `*gains`,
+// and compiles the pair's law into `*out`. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`,
+// `MAGLEV_ERROR_ALIGNMENT`, `MAGLEV_ERROR_LAW` (not the state law), or the code of the first
+// bad field (`MAGLEV_ERROR_GUIDANCE_*` for a gain); on failure `*out` is marked
+// uninitialised.
+//
+// # Safety
+// `params`, `gains` NULL or readable; `out` NULL or a writable `maglev_guidance_law_f32`.
+int32_t maglev_guidance_init_f32(const struct maglev_params *params,
+                                 const struct maglev_guidance_params *gains,
+                                 struct maglev_guidance_law_f32 *out);
+
+// Writes into `*out` both magnets in equilibrium at lateral offset `d_m` (m; the gaps
+// `h0_m ± d_m`), the integral holding them there. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`,
+// `MAGLEV_ERROR_ALIGNMENT`, `MAGLEV_ERROR_NOT_INITIALIZED` or `MAGLEV_ERROR_GAP` (`d_m` NaN,
+// or a gap ≤ 0: `|d_m| ≥ h0_m`).
+//
+// # Safety
+// `law` NULL or a `maglev_guidance_law_f32`; `out` NULL or a writable
+// `maglev_guidance_state_f32`.
+int32_t maglev_guidance_state_init_f32(const struct maglev_guidance_law_f32 *law,
+                                       double d_m,
+                                       struct maglev_guidance_state_f32 *out);
+
+// One step `dt_s` of the pair from `*state` to the measurement `*m` at its end; writes the
+// outputs to `*out`. Returns `MAGLEV_OK`, `MAGLEV_ERROR_NULL`, `MAGLEV_ERROR_ALIGNMENT` or
+// `MAGLEV_ERROR_NOT_INITIALIZED` (then nothing is written). Events are `out->status` bits.
+//
+// # Safety
+// Each pointer NULL or valid for its type; `state` and `out` do not overlap the others.
+int32_t maglev_guidance_update_f32(const struct maglev_guidance_law_f32 *law,
+                                   struct maglev_guidance_state_f32 *state,
+                                   const struct maglev_pair_measurement_f32 *m,
+                                   struct maglev_pair_output_f32 *out);
 
 // Fills `*out` with the paper's §4.2 magnet (i0 = 43 A, h0 = 0.01 m, R0 = 1 Ω, KP = 0.01 V·m/A,
 // KI = 6 V·m/(A·s), α = 0.5, one sub-step, linear interpolation, no voltage bound, the paper's

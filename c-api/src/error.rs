@@ -93,12 +93,22 @@ pub enum maglev_error {
     /// A storage pointer is not aligned for its type (law and state: `MAGLEV_ALIGN`;
     /// measurement and output: 4).
     MAGLEV_ERROR_ALIGNMENT = 35,
+    /// `maglev_guidance_params.kp_V_per_m`: finite, ≥ 0.
+    MAGLEV_ERROR_GUIDANCE_KP = 36,
+    /// `maglev_guidance_params.kd_V_s_per_m`: finite, ≥ 0.
+    MAGLEV_ERROR_GUIDANCE_KD = 37,
+    /// `maglev_guidance_params.ka_V_s2_per_m`: finite, ≥ 0.
+    MAGLEV_ERROR_GUIDANCE_KA = 38,
+    /// `maglev_guidance_params.ki_V_per_m_s`: finite, ≥ 0.
+    MAGLEV_ERROR_GUIDANCE_KI = 39,
+    /// `maglev_guidance_params.kc_V_per_A`: finite, ≥ 0.
+    MAGLEV_ERROR_GUIDANCE_KC = 40,
 }
 
 use maglev_error::*;
 
 /// Every code, in order of value.
-const ALL: [maglev_error; 36] = [
+const ALL: [maglev_error; 41] = [
     MAGLEV_OK,
     MAGLEV_ERROR_NULL,
     MAGLEV_ERROR_I0,
@@ -135,6 +145,11 @@ const ALL: [maglev_error; 36] = [
     MAGLEV_ERROR_STATE_PERIODS,
     MAGLEV_ERROR_STATE_UNREPRESENTABLE,
     MAGLEV_ERROR_ALIGNMENT,
+    MAGLEV_ERROR_GUIDANCE_KP,
+    MAGLEV_ERROR_GUIDANCE_KD,
+    MAGLEV_ERROR_GUIDANCE_KA,
+    MAGLEV_ERROR_GUIDANCE_KI,
+    MAGLEV_ERROR_GUIDANCE_KC,
 ];
 
 impl maglev_error {
@@ -242,6 +257,26 @@ impl maglev_error {
             MAGLEV_ERROR_ALIGNMENT => (
                 c"(pointer alignment)",
                 c"a storage pointer is misaligned: law and state need MAGLEV_ALIGN (8) bytes, measurement and output 4",
+            ),
+            MAGLEV_ERROR_GUIDANCE_KP => (
+                c"guidance.kp_V_per_m",
+                c"guidance.kp_V_per_m must be finite and >= 0",
+            ),
+            MAGLEV_ERROR_GUIDANCE_KD => (
+                c"guidance.kd_V_s_per_m",
+                c"guidance.kd_V_s_per_m must be finite and >= 0",
+            ),
+            MAGLEV_ERROR_GUIDANCE_KA => (
+                c"guidance.ka_V_s2_per_m",
+                c"guidance.ka_V_s2_per_m must be finite and >= 0",
+            ),
+            MAGLEV_ERROR_GUIDANCE_KI => (
+                c"guidance.ki_V_per_m_s",
+                c"guidance.ki_V_per_m_s must be finite and >= 0",
+            ),
+            MAGLEV_ERROR_GUIDANCE_KC => (
+                c"guidance.kc_V_per_A",
+                c"guidance.kc_V_per_A must be finite and >= 0",
             ),
         }
     }

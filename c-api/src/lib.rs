@@ -9,6 +9,9 @@
 //! output)` once per step. The caller owns every byte: the law and the state live in opaque
 //! arrays of published size ([`MAGLEV_LAW_SIZE`], [`MAGLEV_STATE_SIZE`]); nothing allocates.
 //!
+//! The guidance law of a magnet pair (`maglev_core::law::guidance`) has its own functions,
+//! `float` only: [`guidance_api`].
+//!
 //! # No panic, no unwinding
 //! Every function checks its pointers and returns an error code; the core's update never
 //! panics (its events are status bits). The crate is `no_std`; on hosted targets it links
@@ -23,12 +26,18 @@ extern crate std;
 
 pub mod error;
 pub mod f32_api;
+pub mod guidance_api;
 pub mod law;
 pub mod params;
 pub mod q28_api;
 
 pub use error::{maglev_error, maglev_error_field_name, maglev_error_message};
 pub use f32_api::*;
+pub use guidance_api::{
+    maglev_coil_state_f32, maglev_guidance_init_f32, maglev_guidance_law_f32,
+    maglev_guidance_params, maglev_guidance_state_f32, maglev_guidance_state_init_f32,
+    maglev_guidance_update_f32, maglev_pair_measurement_f32, maglev_pair_output_f32,
+};
 pub use law::{
     MAGLEV_ALIGN, MAGLEV_LAW_SIZE, MAGLEV_LAW_WORDS, MAGLEV_MEASURED_ACCEL,
     MAGLEV_MEASURED_CURRENT, MAGLEV_STATE_SIZE, MAGLEV_STATE_WORDS,

@@ -77,11 +77,9 @@ fn accel(k: usize) -> f64 {
     0.01 * (((k * 13) % 17) as f64 - 8.0)
 }
 
-/// The trace's laws as the core builds them: the README's state gains, and smaller ones with a
-/// 40 Hz observer that Q4.28 can carry.
-fn laws() -> [(&'static str, LawParams); 4] {
-    let magnet = Params::paper_wheel(1e-3);
-    let state = StateParams {
+/// The README's state gains, EMS, at the default rates.
+fn readme_state() -> StateParams {
+    StateParams {
         kp: 51600.0,
         kd: 1600.0,
         ka: 40.0,
@@ -91,7 +89,14 @@ fn laws() -> [(&'static str, LawParams); 4] {
         rate_hz: StateParams::RATE_HZ,
         observer_hz: StateParams::OBSERVER_HZ,
         geometry: Geometry::Ems,
-    };
+    }
+}
+
+/// The trace's laws as the core builds them: the README's state gains, and smaller ones with a
+/// 40 Hz observer that Q4.28 can carry.
+fn laws() -> [(&'static str, LawParams); 4] {
+    let magnet = Params::paper_wheel(1e-3);
+    let state = readme_state();
     [
         ("paper", LawKind::Paper),
         ("gap-loop", LawKind::GapLoop(GapParams::designed())),
@@ -208,4 +213,56 @@ fn the_docs_example_is_the_compiled_file_and_gives_the_law_s_numbers() {
         writeln!(want, "{k} {f:.3} N {i:.4} A").unwrap();
     }
     assert_eq!(got, want);
+}
+
+/// `tests/c/guidance.c`: the guidance law through the C API equals the core's `GuidanceLaw`
+/// on the same trace, bit for bit (one control period per update: the firmware's case), and
+/// the refusals name their fields.
+#[test]
+fn c_guidance_trace_equals_the_core_guidance_law_bit_for_bit() {
+    use maglev_core::law::guidance::{GuidanceParams, PairMeasurement};
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let got = build_and_run(&dir.join("tests/c/guidance.c"), "maglev-c-guidance");
+    let magnet = Params::paper(10000.0, 1e-4);
+    let timing = readme_state();
+    let gains = GuidanceParams {
+        kp: 20000.0,
+        kd: 900.0,
+        ka: 25.0,
+        ki: 3000.0,
+        kc: 8.0,
+    };
+    let law = gains.compile::<f32>(&timing, &magnet).unwrap();
+    let mut st = law.equilibrium(1e-4);
+    let mut want = String::from("guidance init 0\n");
+    let mut moved = 0.0f32;
+    for k in 1..=STEPS {
+        let d = 0.01 + 0.004 * (((k * 37) % 41) as f64 - 20.0) / 20.0;
+        let a = 0.01 * (((k * 13) % 17) as f64 - 8.0);
+        let m = PairMeasurement {
+            d: d as f32,
+            accel: (k % 3 != 0).then_some(a as f32),
+        };
+        let o = law.update(&mut st, m, Geometry::Ems);
+        moved = moved.max((o.left.voltage - o.right.voltage).abs());
+        writeln!(
+            want,
+            "guidance {k:03} rc=0 vl={:08x} vr={:08x} Fl={:08x} Fr={:08x} Fy={:08x} st={:02x}",
+            o.left.voltage.to_bits(),
+            o.right.voltage.to_bits(),
+            o.left.force.to_bits(),
+            o.right.force.to_bits(),
+            o.force_y.to_bits(),
+            o.status.0
+        )
+        .unwrap();
+    }
+    // MAGLEV_ERROR_GUIDANCE_KD and MAGLEV_ERROR_LAW in include/maglev.h; an uninitialised
+    // law (the failed init marked it) is MAGLEV_ERROR_NOT_INITIALIZED.
+    want += "bad kd 37 guidance.kd_V_s_per_m\npaper law 14 law\nuninitialised 31\n";
+    assert!(moved > 0.01, "the trace moves the pair: {moved}");
+    for (i, (g, w)) in got.lines().zip(want.lines()).enumerate() {
+        assert_eq!(g, w, "line {}", i + 1);
+    }
+    assert_eq!(got.lines().count(), want.lines().count());
 }

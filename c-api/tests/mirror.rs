@@ -216,3 +216,100 @@ fn every_c_field_reaches_the_core() {
         }
     }
 }
+
+/// The guidance law's gains: `maglev_guidance_params` holds each of the core's
+/// `GuidanceParams` fields in the C field of its name (both destructured without `..`), and
+/// the API's `to_core` gives the core value back, each field distinct.
+#[test]
+fn guidance_gains_mirror_the_cores_field_for_field() {
+    use maglev_core::law::guidance::GuidanceParams;
+    let core = GuidanceParams {
+        kp: 1.0,
+        kd: 2.0,
+        ka: 3.0,
+        ki: 4.0,
+        kc: 5.0,
+    };
+    let GuidanceParams { kp, kd, ka, ki, kc } = core;
+    let c = maglev_guidance_params {
+        kp_V_per_m: kp,
+        kd_V_s_per_m: kd,
+        ka_V_s2_per_m: ka,
+        ki_V_per_m_s: ki,
+        kc_V_per_A: kc,
+    };
+    assert_eq!(c.to_core(), core);
+    let maglev_guidance_params {
+        kp_V_per_m,
+        kd_V_s_per_m,
+        ka_V_s2_per_m,
+        ki_V_per_m_s,
+        kc_V_per_A,
+    } = c;
+    // Five distinct values: a swapped pair would show.
+    assert_eq!(
+        [
+            kp_V_per_m,
+            kd_V_s_per_m,
+            ka_V_s2_per_m,
+            ki_V_per_m_s,
+            kc_V_per_A
+        ],
+        [1.0, 2.0, 3.0, 4.0, 5.0]
+    );
+}
+
+/// The pair's state: `maglev_guidance_state_f32` holds each field of the core's
+/// `GuidanceState<f32>` (and of each coil's `State<f32>`) in the C field of its name, and the
+/// API's conversions are each other's inverse.
+#[test]
+fn guidance_state_mirrors_the_cores_field_for_field() {
+    use maglev_c_api::guidance_api::{from_c, to_c};
+    use maglev_core::law::guidance::GuidanceState;
+    use maglev_core::State;
+    let coil = |b: f32| State {
+        x: b + 1.0,
+        y: b + 2.0,
+        eta: b + 3.0,
+        eta_prev: b + 4.0,
+        v: b + 5.0,
+    };
+    let core = GuidanceState {
+        left: coil(0.0),
+        right: coil(10.0),
+        integral: 21.0,
+        eta_est: 22.0,
+        rate_est: 23.0,
+        accel: 24.0,
+    };
+    let c = to_c(&core);
+    let c_coil = |s: &maglev_coil_state_f32| {
+        let &maglev_coil_state_f32 {
+            x,
+            y,
+            eta,
+            eta_prev,
+            v,
+        } = s;
+        [x, y, eta, eta_prev, v]
+    };
+    let maglev_guidance_state_f32 {
+        left,
+        right,
+        integral,
+        eta_est,
+        rate_est,
+        accel,
+    } = c;
+    assert_eq!(c_coil(&left), [1.0, 2.0, 3.0, 4.0, 5.0]);
+    assert_eq!(c_coil(&right), [11.0, 12.0, 13.0, 14.0, 15.0]);
+    assert_eq!(
+        [integral, eta_est, rate_est, accel],
+        [21.0, 22.0, 23.0, 24.0]
+    );
+    assert_eq!(from_c(&c), core);
+    assert_eq!(
+        std::mem::size_of::<maglev_guidance_state_f32>(),
+        std::mem::size_of::<GuidanceState<f32>>()
+    );
+}

@@ -62,12 +62,23 @@ impl AccelModel {
     /// Code for the absolute vertical acceleration `a` (m/s², Z up): the specific force
     /// `a/g_n + 1` in LSB, rounded, saturated to `i16`; NaN reads 0.
     pub fn code(&self, a: f64) -> i16 {
-        let v = libm::round((a / GRAVITY + 1.0) / LSB_G_16G);
-        if v.is_nan() {
-            0
-        } else {
-            v.clamp(i16::MIN as f64, i16::MAX as f64) as i16
-        }
+        saturate(libm::round((a / GRAVITY + 1.0) / LSB_G_16G))
+    }
+
+    /// Code of a part whose Z axis is horizontal, along +Y (a guidance magnet's,
+    /// [`crate::guide`]), for the absolute lateral acceleration `a_y` (m/s²): `a_y/g_n` in
+    /// LSB (no gravity along a horizontal axis), rounded, saturated; NaN reads 0.
+    pub fn code_lateral(&self, a_y: f64) -> i16 {
+        saturate(libm::round(a_y / GRAVITY / LSB_G_16G))
+    }
+}
+
+/// A rounded LSB count as the part's 16-bit output (saturating; NaN reads 0).
+fn saturate(v: f64) -> i16 {
+    if v.is_nan() {
+        0
+    } else {
+        v.clamp(i16::MIN as f64, i16::MAX as f64) as i16
     }
 }
 

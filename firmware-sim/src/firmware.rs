@@ -26,6 +26,11 @@
 //! is the period: 12 channels × (SPI + update) must finish in 100 µs; the instruction counts
 //! per tick are measured on the QEMU image (see docs/hil.md).
 //!
+//! # Guidance
+//! With `Config::guidance` the guidance pairs run the core's guidance law instead of each
+//! magnet's own law ([`crate::guide`]): the tick's levitation channels as before, then one
+//! guidance update per pair on its two samples of the same tick.
+//!
 //! # Snapshot and restore
 //! The whole mutable state is one `Copy` value, [`FwState`]: the server restores the
 //! committed one before every host step, so a step can be re-run (Newton iterations).
@@ -36,6 +41,7 @@
 
 use crate::accel::Accelerometer;
 use crate::adc::read_channel;
+use crate::guide::{Pairs, MAX_PAIRS};
 use crate::hbridge::duty_for;
 use crate::protocol::{ChannelOut, Config, ConfigFault, ConfigKey, Problem, MAX_CHANNELS};
 use crate::supervision::{check, Event, Limits, Mode, SensorState};
@@ -43,6 +49,7 @@ use crate::validate::{check_config, law_fault};
 use embedded_hal::pwm::SetDutyCycle;
 use embedded_hal::spi::SpiDevice;
 use heapless::Vec;
+use maglev_core::law::guidance::GuidanceState;
 use maglev_core::{
     Interpolation, Law, LawParams, LawState, Levitation, Measurement, Output, Params, Scalar,
     Status,
@@ -69,6 +76,10 @@ pub struct ChannelState<S> {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FwState<S> {
     pub ch: [ChannelState<S>; MAX_CHANNELS],
+    /// The guidance pairs' law states (with `Config::guidance`; their coils are copied into
+    /// the channels' `law.inner` after every update, so outputs and the fault ramp read them
+    /// there).
+    pub pairs: [GuidanceState<S>; MAX_PAIRS],
     pub mode: Mode,
     pub ramp_left: u16,
     pub tick: u64,
@@ -90,6 +101,8 @@ pub struct Firmware<S, SPI, PWM, ACC> {
     /// Every channel runs the paper's law (called without the law type's dispatch).
     paper: bool,
     laws: Vec<Law<S>, MAX_CHANNELS>,
+    /// The guidance pairs' law, with `Config::guidance`.
+    pairs: Option<Pairs<S>>,
     coils: Vec<Levitation<S>, MAX_CHANNELS>,
     /// `h/h0` of code 0, and of the full 2^bits span.
     gap_offset: S,
@@ -147,10 +160,43 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
                 problem: Problem::OutOfRange,
             });
         }
-        let mut laws = Vec::new();
-        let mut coils = Vec::new();
-        let mut st = FwState::<S>::default();
         let full_scale = ((1u32 << cfg.adc_bits) - 1) as u16;
+        let mut ov = false;
+        let span_m = (1u32 << cfg.adc_bits) as f64 * cfg.adc_lsb_m;
+        let gap_offset = S::from_f64(cfg.adc_offset_m / cfg.h0, &mut ov);
+        let gap_span = S::from_f64(span_m / cfg.h0, &mut ov);
+        let ramp_step = S::from_f64(1.0 / cfg.ramp_ticks as f64, &mut ov);
+        let lsb = crate::accel::LSB_G_16G;
+        let mut accel_ov = false;
+        let accel_offset = S::from_f64(-32768.0 * lsb - 1.0, &mut accel_ov);
+        let accel_span = S::from_f64(65536.0 * lsb, &mut accel_ov);
+        // Built first and filled in place: one copy of the firmware on the stack (the
+        // Cortex-M0 image's 64 KiB hold it and the harness).
+        let mut fw = Firmware {
+            spi,
+            pwm,
+            accels: drivers,
+            accel_mask: 0,
+            accel_offset,
+            accel_span,
+            paper: cfg.law.batches(),
+            laws: Vec::new(),
+            pairs: None,
+            coils: Vec::new(),
+            gap_offset,
+            gap_span,
+            adc_bits: cfg.adc_bits,
+            full_scale,
+            v_to_frac: (cfg.r0 * cfg.i0 / cfg.v_dc) as f32,
+            delay: cfg.delay,
+            limits: Limits {
+                hold_ticks: cfg.hold_ticks,
+                stuck_ticks: cfg.stuck_ticks,
+                ramp_ticks: cfg.ramp_ticks,
+            },
+            ramp_step,
+            st: FwState::default(),
+        };
         for (k, ch) in cfg.channels.iter().enumerate() {
             let p = Params {
                 i0: cfg.i0,
@@ -182,7 +228,7 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
             .map_err(|e| law_fault(e, channel))?;
             let code = libm::round((ch.gap - cfg.adc_offset_m) / cfg.adc_lsb_m)
                 .clamp(1.0, full_scale as f64 - 1.0) as u16;
-            st.ch[k] = ChannelState {
+            fw.st.ch[k] = ChannelState {
                 law: law
                     .try_equilibrium_state(ch.gap)
                     .map_err(|e| law_fault(e, channel))?,
@@ -199,18 +245,9 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
                 ramp_from: S::ONE,
                 duty: 0,
             };
-            let _ = laws.push(law);
-            let _ = coils.push(coil);
+            let _ = fw.laws.push(law);
+            let _ = fw.coils.push(coil);
         }
-        let mut ov = false;
-        let span_m = (1u32 << cfg.adc_bits) as f64 * cfg.adc_lsb_m;
-        let gap_offset = S::from_f64(cfg.adc_offset_m / cfg.h0, &mut ov);
-        let gap_span = S::from_f64(span_m / cfg.h0, &mut ov);
-        let ramp_step = S::from_f64(1.0 / cfg.ramp_ticks as f64, &mut ov);
-        let lsb = crate::accel::LSB_G_16G;
-        let mut accel_ov = false;
-        let accel_offset = S::from_f64(-32768.0 * lsb - 1.0, &mut accel_ov);
-        let accel_span = S::from_f64(65536.0 * lsb, &mut accel_ov);
         if accel_ov && state {
             return Err(ConfigFault {
                 key: ConfigKey::Accelerometer,
@@ -225,30 +262,25 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
                 problem: Problem::Unrepresentable,
             });
         }
-        let mut fw = Firmware {
-            spi,
-            pwm,
-            accels: drivers,
-            accel_mask: 0,
-            accel_offset,
-            accel_span,
-            paper: cfg.law.batches(),
-            laws,
-            coils,
-            gap_offset,
-            gap_span,
-            adc_bits: cfg.adc_bits,
-            full_scale,
-            v_to_frac: (cfg.r0 * cfg.i0 / cfg.v_dc) as f32,
-            delay: cfg.delay,
-            limits: Limits {
-                hold_ticks: cfg.hold_ticks,
-                stuck_ticks: cfg.stuck_ticks,
-                ramp_ticks: cfg.ramp_ticks,
+        // The pairs after the rest, compiled into their place (no second copy on the stack:
+        // the Cortex-M0 image's 64 KiB hold the whole firmware).
+        fw.pairs = Pairs::compile(
+            cfg,
+            |k| Params {
+                p0: cfg.channels[k].p0,
+                kp: cfg.kp,
+                ki: cfg.ki,
+                v_max: cfg.v_max,
+                ..*fw.coils[k].params()
             },
-            ramp_step,
-            st,
-        };
+            &mut fw.st.pairs,
+        )?;
+        if let Some(pairs) = &fw.pairs {
+            for (w, s) in fw.st.pairs.iter().enumerate().take(pairs.len()) {
+                fw.st.ch[3 * w + 1].law.inner = s.left;
+                fw.st.ch[3 * w + 2].law.inner = s.right;
+            }
+        }
         for k in 0..n {
             let v = fw.st.ch[k].law.inner.v;
             let _ = fw.apply(k, v);
@@ -418,7 +450,12 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
                 self.drive(k, &out, &mut events);
             }
         } else {
+            // With guidance pairs, the channels of a pair are the pair law's (below).
+            let guided = self.pairs.is_some();
             for (k, &code) in codes.iter().enumerate().take(n) {
+                if guided && !k.is_multiple_of(3) {
+                    continue;
+                }
                 let h = self.gap_pu(code);
                 let wired = self.accel_mask & (1 << k) != 0;
                 let accel = wired.then(|| self.accel_pu(self.st.ch[k].accel));
@@ -429,6 +466,9 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
                 };
                 let out = law_update(&self.laws[k], &mut self.st.ch[k].law, m);
                 self.drive(k, &out, &mut events);
+            }
+            if guided {
+                self.guide(&codes, &mut events);
             }
         }
         if self.st.mode == Mode::Ramp {
@@ -442,6 +482,34 @@ impl<S: Scalar, SPI: SpiDevice<u8>, PWM: SetDutyCycle, ACC: SpiDevice<u8>>
         }
         self.st.tick += 1;
         events
+    }
+
+    /// One period of every guidance pair on its channels' codes ([`crate::guide`]); out of
+    /// line, as [`law_update`].
+    #[inline(never)]
+    fn guide(&mut self, codes: &[u16; MAX_CHANNELS], events: &mut Event) {
+        let Some(pairs) = &self.pairs else {
+            return;
+        };
+        let mut volts = [(S::ZERO, S::ZERO); MAX_PAIRS];
+        for (w, v) in volts.iter_mut().enumerate().take(pairs.len()) {
+            let (l, r) = (3 * w + 1, 3 * w + 2);
+            let gaps = (self.gap_pu(codes[l]), self.gap_pu(codes[r]));
+            let wired = self.accel_mask & (1 << l) != 0;
+            let accel = wired.then(|| pairs.accel_pu(self.st.ch[l].accel));
+            let out = pairs.update(w, &mut self.st.pairs[w], gaps, accel);
+            self.st.ch[l].law.inner = self.st.pairs[w].left;
+            self.st.ch[r].law.inner = self.st.pairs[w].right;
+            events.raise(map_status(out.status));
+            *v = (out.left.voltage, out.right.voltage);
+        }
+        for (w, &(v_l, v_r)) in volts.iter().enumerate().take(pairs.len()) {
+            let clip_l = self.apply(3 * w + 1, v_l);
+            let clip_r = self.apply(3 * w + 2, v_r);
+            if clip_l || clip_r {
+                events.raise(Event::PWM_CLIPPED);
+            }
+        }
     }
 
     /// Channel `k`'s `g/g0`, coil current `i/i0` (both Q4.28) and duty.

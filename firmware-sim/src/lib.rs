@@ -5,6 +5,7 @@
 //!   `SetDutyCycle` H-bridges) and over the core's scalar type.
 //! * [`adc`], [`hbridge`]: the simulated converter chip and power stage.
 //! * [`accel`]: the magnet's accelerometer on SPI (driver, simulated part; state law).
+//! * [`guide`]: the guidance pairs under the core's guidance law (`Config::guidance`).
 //! * [`supervision`]: sensor checks and the fault reactions.
 //! * [`protocol`]: the framed wire format (postcard + CRC-32 + COBS, sequence numbers).
 //! * [`server`]: executes protocol requests on the firmware (step / commit / reply cache);
@@ -22,6 +23,7 @@ pub use heapless;
 pub mod accel;
 pub mod adc;
 pub mod firmware;
+pub mod guide;
 pub mod hbridge;
 pub mod protocol;
 pub mod server;

@@ -18,7 +18,10 @@
 
 use heapless::Vec;
 /// The law types of [`Config::law`]: the core's own, serialised as they are.
-pub use maglev_core::{gap::Geometry, gap_control::GapParams, law::state::StateParams, LawKind};
+pub use maglev_core::{
+    gap::Geometry, gap_control::GapParams, law::guidance::GuidanceParams, law::state::StateParams,
+    LawKind,
+};
 use serde::{Deserialize, Serialize};
 
 /// Protocol version carried in every envelope; a mismatch is answered with [`Nack::Version`].
@@ -27,7 +30,9 @@ use serde::{Deserialize, Serialize};
 /// 4: [`Config::geometry`] added (the state law's observer needs how the magnet faces its
 /// rail, which `StateParams` does not serialise), [`Request::StepAccel`] and
 /// [`ConfigKey::Accelerometer`] appended.
-pub const VERSION: u8 = 4;
+/// 5: [`Config::guidance`] added (the guidance pairs' own law), [`ConfigKey::Guidance`]
+/// appended.
+pub const VERSION: u8 = 5;
 /// Most magnet channels one firmware serves (4 wheels × 3 magnets = 12 for the Fig. 1 car).
 pub const MAX_CHANNELS: usize = 16;
 /// Most ADC codes in one step request (channels × ticks per step).
@@ -103,6 +108,12 @@ pub struct Config {
     /// upward motion moves its gap, which the state law's observer needs with the
     /// accelerometer (`maglev_core::law::state`); unused by the other laws.
     pub geometry: Geometry,
+    /// The guidance pairs' own law (the core's `[controller.guidance]` gains, serialised as
+    /// they are), with the timing and supply of the state law in [`Config::law`]: the
+    /// channels then come in threes per wheel (levitation, guidance left at `h0 + d`,
+    /// guidance right at `h0 − d`, as `maglev_core::guidance` orders them) and each pair
+    /// runs `maglev_core::law::guidance` on its two gaps. `None`: every channel runs `law`.
+    pub guidance: Option<GuidanceParams>,
 }
 
 /// One magnet channel's static load (N) and initial gap (m).
@@ -216,6 +227,8 @@ pub enum ConfigKey {
     /// A channel's accelerometer (state law): it did not answer with its id, or the number
     /// type cannot hold its scale.
     Accelerometer,
+    /// The guidance law's gains ([`Config::guidance`]), or a channel layout it cannot pair.
+    Guidance,
 }
 
 /// What is wrong with a [`Config`] value.
@@ -267,6 +280,7 @@ impl ConfigKey {
             RampTicks => "ramp_ticks",
             WatchdogTicks => "watchdog_ticks",
             Accelerometer => "accelerometer",
+            Guidance => "controller.guidance",
         }
     }
 
@@ -294,6 +308,10 @@ impl ConfigKey {
             RampTicks => "1..=65535",
             WatchdogTicks => "0 (off) or more than ticks_per_step",
             Accelerometer => "one per channel answering WHO_AM_I = 0x7B, f32 firmware",
+            Guidance => {
+                "finite gains ≥ 0, under the state law, channels in threes (levitation, guidance \
+                 left, guidance right)"
+            }
         }
     }
 }

@@ -65,6 +65,7 @@ fn config(law: LawKind) -> Config {
         ramp_ticks: 50,
         watchdog_ticks: 0,
         geometry: Geometry::Ems,
+        guidance: None,
     }
 }
 

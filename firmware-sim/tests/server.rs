@@ -46,6 +46,7 @@ fn config(scalar: ScalarKind) -> Config {
         ramp_ticks: 50,
         watchdog_ticks: 0,
         geometry: Geometry::Ems,
+        guidance: None,
     }
 }
 

@@ -96,6 +96,18 @@ pub mod fields {
 }
 
 impl GuidanceParams {
+    /// The five gains of the levitation state law `s` on the differential mode (the pair
+    /// then gives the levitation law's voltages to rounding in the linear range: module docs).
+    pub fn same_as(s: &StateParams) -> Self {
+        GuidanceParams {
+            kp: s.kp,
+            kd: s.kd,
+            ka: s.ka,
+            ki: s.ki,
+            kc: s.kc,
+        }
+    }
+
     /// The gains in order `kp, kd, ka, ki, kc` with their fields.
     pub fn gains(&self) -> [(Field, f64); 5] {
         [
@@ -266,8 +278,24 @@ impl<S: Scalar> GuidanceLaw<S> {
 
     /// One structural step of both magnets to the measurement at its end (module docs);
     /// the net lateral force per unit `p0` by `geometry` ([`Geometry::guidance_force`]).
-    /// Never panics: events in the status.
+    /// Never panics: events in the status. One control period in floating point (the
+    /// firmware's case) takes a straight-line path with the same bits ([`fast`]).
     pub fn update(
+        &self,
+        st: &mut GuidanceState<S>,
+        m: PairMeasurement<S>,
+        geometry: Geometry,
+    ) -> PairOutput<S> {
+        if let Some(out) = self.fast_update(st, m, geometry) {
+            return out;
+        }
+        self.general_update(st, m, geometry)
+    }
+
+    /// [`GuidanceLaw::update`] with every operation checked, any number of periods; out of
+    /// line, so that the fast path's prologue stays small.
+    #[inline(never)]
+    pub(crate) fn general_update(
         &self,
         st: &mut GuidanceState<S>,
         m: PairMeasurement<S>,
@@ -354,5 +382,6 @@ impl<S: Scalar> GuidanceLaw<S> {
     }
 }
 
+mod fast;
 #[cfg(test)]
 mod tests;

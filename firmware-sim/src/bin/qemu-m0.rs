@@ -27,7 +27,15 @@ fn selftest<W: Write, M: Measure>(w: &mut W, m: &M) -> core::fmt::Result {
     call_cost::<I4F28, _, _>(w, m)?;
     op_costs::<I4F28, _, _>(w, m)?;
     // The car on a 48 MHz Cortex-M0 (STM32F0-class: 1 flash wait state, 2-cycle loads, 3-cycle taken branches: 1.5 cycles per insn assumed).
-    car_tick::report::<I4F28, _, _>(w, m, f64::INFINITY, LawKind::Paper, "paper", 48, 150)?;
+    car_tick::report::<I4F28, _, _>(
+        w,
+        m,
+        f64::INFINITY,
+        (LawKind::Paper, None),
+        "paper",
+        48,
+        150,
+    )?;
     Ok(())
 }
 

@@ -41,14 +41,17 @@ fn selftest<W: Write, M: Measure>(w: &mut W, m: &M) -> core::fmt::Result {
         return Err(core::fmt::Error); // fails the image: the experiment no longer matches
     }
     // The car on one MCU: a 168 MHz STM32F4-class Cortex-M4F, 2 cycles per instruction.
-    let paper = LawKind::Paper;
+    let paper = (LawKind::Paper, None);
     car_tick::report::<f32, _, _>(w, m, f64::INFINITY, paper, "paper", 168, 200)?;
     car_tick::report::<I4F28, _, _>(w, m, f64::INFINITY, paper, "paper", 168, 200)?;
     car_tick::report::<f32, _, _>(w, m, 200.0, paper, "v_max=200V", 168, 200)?;
     // The state law (issue 26): one update, and the car's tick with 4 accelerometers.
     state_law::report::<f32, _, _>(w, m, BUDGET_STATE_F32)?;
     let state = LawKind::State(state_law::gains());
-    car_tick::report::<f32, _, _>(w, m, f64::INFINITY, state, "state", 168, 200)?;
+    car_tick::report::<f32, _, _>(w, m, f64::INFINITY, (state, None), "state", 168, 200)?;
+    // The guidance law (issue 39): 4 levitation channels and 4 guidance pairs, 8 accelerometers.
+    let guided = (state, Some(state_law::guidance_gains()));
+    car_tick::report::<f32, _, _>(w, m, f64::INFINITY, guided, "state+guidance", 168, 200)?;
     Ok(())
 }
 

@@ -11,7 +11,9 @@ use crate::adc::AdcChip;
 use crate::board::selftest::Measure;
 use crate::firmware::Firmware;
 use crate::hbridge::HBridge;
-use crate::protocol::{ChannelInit, Config, Geometry, LawKind, ScalarKind, MAX_CHANNELS};
+use crate::protocol::{
+    ChannelInit, Config, Geometry, GuidanceParams, LawKind, ScalarKind, MAX_CHANNELS,
+};
 use core::fmt::{self, Write};
 use heapless::Vec;
 use maglev_core::Scalar;
@@ -23,8 +25,15 @@ pub const TICKS: u32 = 20;
 
 /// The car's configuration: `law` at 10 kHz, 16-bit ADC over 0–20 mm, 12-bit PWM on 200 V;
 /// the paper's supply bound `v_max` (V, `INFINITY` for none). Under the state law the magnets
-/// face their rails as EMS magnets do, and each levitation magnet carries an accelerometer.
-pub fn car_config(scalar: ScalarKind, v_max: f64, law: LawKind) -> Config {
+/// face their rails as EMS magnets do, and each levitation magnet carries an accelerometer;
+/// with `guidance` the pairs run the guidance law (`Config::guidance`) and each pair's left
+/// magnet carries a lateral accelerometer.
+pub fn car_config(
+    scalar: ScalarKind,
+    v_max: f64,
+    law: LawKind,
+    guidance: Option<GuidanceParams>,
+) -> Config {
     let mut channels = Vec::new();
     for _wheel in 0..4 {
         // Levitation (p0 of a Fig. 1 wheel) and the guidance pair at h0 ± 0.1 mm.
@@ -61,20 +70,29 @@ pub fn car_config(scalar: ScalarKind, v_max: f64, law: LawKind) -> Config {
         } else {
             Geometry::Paper
         },
+        guidance,
     }
 }
 
 /// The levitation channels (the first of each wheel's three), which carry accelerometers.
 pub const LEVITATION: u16 = 0b0010_0100_1001;
+/// The guidance pairs' left channels (the second of each wheel's three), which carry the
+/// pairs' lateral accelerometers under the guidance law.
+pub const LATERAL: u16 = LEVITATION << 1;
 
 /// Instructions of one 12-channel tick: (fewest, most) over [`TICKS`] ticks without events.
-pub fn measure<S: Scalar, M: Measure>(m: &M, v_max: f64, law: LawKind) -> Option<(u32, u32)> {
+pub fn measure<S: Scalar, M: Measure>(
+    m: &M,
+    v_max: f64,
+    law: LawKind,
+    guidance: Option<GuidanceParams>,
+) -> Option<(u32, u32)> {
     let kind = if S::FLOAT {
         ScalarKind::F32
     } else {
         ScalarKind::I4F28
     };
-    let cfg = car_config(kind, v_max, law);
+    let cfg = car_config(kind, v_max, law, guidance);
     let mut pwm: Vec<HBridge, MAX_CHANNELS> = Vec::new();
     for _ in 0..CHANNELS {
         let _ = pwm.push(HBridge::new(cfg.pwm_bits));
@@ -84,15 +102,19 @@ pub fn measure<S: Scalar, M: Measure>(m: &M, v_max: f64, law: LawKind) -> Option
         let _ = accels.push(AccelChip::default());
     }
     let mut fw = Firmware::<S, _, _, _>::new(&cfg, AdcChip::default(), pwm, accels).ok()?;
-    fw.wire_accelerometers(LEVITATION);
-    let rest = AccelModel.code(0.0);
+    let lateral = if guidance.is_some() { LATERAL } else { 0 };
+    fw.wire_accelerometers(LEVITATION | lateral);
+    let rest = |k: usize| match lateral & (1 << k) {
+        0 => AccelModel.code(0.0),
+        _ => AccelModel.code_lateral(0.0),
+    };
     let (mut lo, mut hi) = (u32::MAX, 0);
     for t in 0..TICKS {
         for (k, ch) in cfg.channels.iter().enumerate() {
             let code = (ch.gap / cfg.adc_lsb_m) as u16 + ((t as usize + k) % 3) as u16;
             fw.bus_mut().set_input(k, code);
             if let Some(chip) = fw.accel_mut(k) {
-                chip.set_sample(rest + ((t as usize + k) % 3) as i16);
+                chip.set_sample(rest(k) + ((t as usize + k) % 3) as i16);
             }
         }
         let mut events = 0;
@@ -112,14 +134,14 @@ pub fn report<S: Scalar, W: Write, M: Measure>(
     w: &mut W,
     m: &M,
     v_max: f64,
-    law: LawKind,
+    (law, guidance): (LawKind, Option<GuidanceParams>),
     tag: &str,
     mhz: u32,
     cpi_x100: u32,
 ) -> fmt::Result {
     let cycles = mhz * 100; // cycles per 100 µs
     let budget = cycles * 100 / cpi_x100;
-    match measure::<S, M>(m, v_max, law) {
+    match measure::<S, M>(m, v_max, law, guidance) {
         Some((lo, hi)) => writeln!(
             w,
             "insns {}/car12 tick {tag}: {lo}..{hi} ({} per channel; budget {budget} = {mhz} MHz \

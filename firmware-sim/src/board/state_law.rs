@@ -10,6 +10,7 @@
 use crate::board::selftest::{gap, Measure, STEPS};
 use core::fmt::{self, Write};
 use maglev_core::gap::Geometry;
+use maglev_core::law::guidance::GuidanceParams;
 use maglev_core::law::state::{StateLaw, StateParams};
 use maglev_core::{LawKind, LawParams, LawState, Measurement, Output, Params, Scalar};
 
@@ -29,6 +30,12 @@ pub fn gains() -> StateParams {
         observer_hz: StateParams::OBSERVER_HZ,
         geometry: Geometry::Ems,
     }
+}
+
+/// The guidance pairs' gains: the levitation law's five, as the core's guidance tests run
+/// them (`maglev_core::law::guidance`; docs/levitation.md, "The guidance law").
+pub fn guidance_gains() -> GuidanceParams {
+    GuidanceParams::same_as(&gains())
 }
 
 /// The Fig. 1 wheel's magnet under the state law at one update per control period.

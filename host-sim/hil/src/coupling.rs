@@ -12,8 +12,13 @@
 //! Under the state law each levitation magnet carries an accelerometer
 //! (`maglev_firmware_sim::accel`): its acceleration, interpolated across the step as the gaps
 //! are, goes to the firmware as the part's codes in a `StepAccel` request (the guidance
-//! magnets' laws run on their gaps alone, as in `maglev run`). The coil current is the
-//! firmware's own: its law integrates the coil (Eq. 9), as the core's does in `maglev run`.
+//! magnets' laws run on their gaps alone, as in `maglev run`). With `[controller.guidance]`
+//! the firmware runs each wheel's guidance pair under the guidance law
+//! (`maglev_firmware_sim::guide`), and the pair's left magnet carries a lateral accelerometer
+//! too: the wheel's lateral acceleration ([`Magnets::lateral_accels`]), interpolated the same
+//! way, as the codes of a part with its axis along +Y (`AccelModel::code_lateral`). The coil
+//! current is the firmware's own: its law integrates the coil (Eq. 9), as the core's does in
+//! `maglev run`.
 
 use super::board::{force, SensorFault, Sensors};
 use super::link::Link;
@@ -66,16 +71,31 @@ pub struct FirmwareMagnets<'a> {
     pub events: Vec<EventRecord>,
 }
 
-/// The accelerometers of the levitation magnets (module docs).
+/// The accelerometers of the levitation magnets, and of the guidance pairs under the
+/// guidance law (module docs).
 struct Accels {
     committed: Vec<f64>,
     used: Vec<f64>,
+    /// The wheels' lateral accelerations (m/s², +Y), under the guidance law; empty without.
+    committed_y: Vec<f64>,
+    used_y: Vec<f64>,
     codes: maglev_firmware_sim::heapless::Vec<i16, { maglev_firmware_sim::protocol::MAX_SAMPLES }>,
 }
 
 /// Bit k set for every levitation channel k (the first of each wheel's three).
 fn levitation_channels(wheels: usize) -> u16 {
     (0..wheels).fold(0, |m, i| m | 1 << (3 * i))
+}
+
+/// The wired accelerometers: the levitation channels, and with `guided` the guidance pairs'
+/// left channels (the second of each wheel's three).
+fn wired_channels(wheels: usize, guided: bool) -> u16 {
+    let lev = levitation_channels(wheels);
+    if guided {
+        lev | lev << 1
+    } else {
+        lev
+    }
 }
 
 /// Every `--set fault` names one of the train's `count` channels (three a wheel:
@@ -138,7 +158,12 @@ impl<'a> FirmwareMagnets<'a> {
         }
         check_fault_channels(&hs.sensor_faults, channels.len())?;
         let state_law = s.law.sensors().accel;
-        super::step_frame::check(ticks, channels.len(), state_law.then_some(v.p0.len()))?;
+        let parts = if s.guidance.is_some() { 2 } else { 1 };
+        super::step_frame::check(
+            ticks,
+            channels.len(),
+            state_law.then_some(parts * v.p0.len()),
+        )?;
         let cfg = Config {
             scalar: hs.scalar,
             rate_hz: hs.rate_hz,
@@ -164,6 +189,7 @@ impl<'a> FirmwareMagnets<'a> {
             ramp_ticks: hs.ramp_ticks,
             watchdog_ticks: hs.watchdog_ticks,
             geometry: s.geometry,
+            guidance: s.guidance,
         };
         match self.link.call(Request::Config(cfg))? {
             Response::Ready { .. } => {}
@@ -180,9 +206,12 @@ impl<'a> FirmwareMagnets<'a> {
         self.h0 = h0;
         self.p0 = v.p0.clone();
         self.geometry = s.geometry;
+        let lateral = if s.guidance.is_some() { v.p0.len() } else { 0 };
         self.accel = s.law.sensors().accel.then(|| Accels {
             committed: vec![0.0; v.p0.len()],
             used: vec![0.0; v.p0.len()],
+            committed_y: vec![0.0; lateral],
+            used_y: vec![0.0; lateral],
             codes: maglev_firmware_sim::heapless::Vec::new(),
         });
         Ok(())
@@ -217,6 +246,15 @@ impl Magnets for FirmwareMagnets<'_> {
         out: &mut [(f64, f64)],
     ) -> Result<()> {
         self.step_forces(step, gaps_prev, gaps_next, accels, out)
+    }
+
+    /// The wheels' lateral accelerations for the next step, read by the guidance pairs'
+    /// accelerometers (module docs); ignored without the guidance law.
+    fn lateral_accels(&mut self, accels_y: &[f64]) {
+        if let Some(a) = &mut self.accel {
+            let n = a.used_y.len();
+            a.used_y.copy_from_slice(&accels_y[..n]);
+        }
     }
 
     /// `Commit`; logs the step's events.
@@ -265,20 +303,27 @@ impl FirmwareMagnets<'_> {
             Some(a) => {
                 a.used.copy_from_slice(accels);
                 a.codes.clear();
+                let guided = !a.used_y.is_empty();
+                let lerp = |p: f64, q: f64, frac: f64| p + frac * (q - p);
                 for j in 1..=ticks {
                     let frac = j as f64 / ticks as f64;
-                    for (&p, &q) in a.committed.iter().zip(&a.used) {
-                        a.codes
-                            .push(AccelModel.code(p + frac * (q - p)))
-                            .map_err(|_| {
+                    for (w, (&p, &q)) in a.committed.iter().zip(&a.used).enumerate() {
+                        let mut codes = [AccelModel.code(lerp(p, q, frac)), 0];
+                        if guided {
+                            let y = lerp(a.committed_y[w], a.used_y[w], frac);
+                            codes[1] = AccelModel.code_lateral(y);
+                        }
+                        for &c in &codes[..1 + guided as usize] {
+                            a.codes.push(c).map_err(|_| {
                                 Error::Firmware("too many samples per step for the protocol".into())
                             })?;
+                        }
                     }
                 }
                 Request::StepAccel {
                     step,
                     codes: self.codes.clone(),
-                    wired: levitation_channels(a.used.len()),
+                    wired: wired_channels(a.used.len(), guided),
                     accel: a.codes.clone(),
                 }
             }
@@ -311,6 +356,7 @@ impl FirmwareMagnets<'_> {
             .ok_or_else(|| Error::Firmware(format!("commit of step {step} without a step")))?;
         if let Some(a) = &mut self.accel {
             a.committed.copy_from_slice(&a.used);
+            a.committed_y.copy_from_slice(&a.used_y);
         }
         if reply.events != 0 {
             self.events.push(EventRecord {

@@ -140,7 +140,12 @@ fn gap_loop_firmware_holds_the_gap_bit_identically_over_the_stream_link() {
 /// The state law on 1000 kg EMS magnets (the gains of tests/state_law.rs), each levitation
 /// magnet's acceleration through the firmware's accelerometer (`maglev_firmware_sim::accel`).
 fn state_scenario(t_end: &str) -> Case {
-    let sets = [
+    state_scenario_with(t_end, &[])
+}
+
+/// [`state_scenario`] with more `--set` values.
+fn state_scenario_with(t_end: &str, more: &[&str]) -> Case {
+    let mut sets = vec![
         format!("t_end={t_end}"),
         "law=state".to_string(),
         "geometry=ems".to_string(),
@@ -149,21 +154,27 @@ fn state_scenario(t_end: &str) -> Case {
          ki_V_per_m_s=4300.0, kc_V_per_A=10.0, vmax_V=500.0}"
             .to_string(),
     ];
+    sets.extend(more.iter().map(|s| s.to_string()));
     Case::load("paper-4.2", &sets).unwrap()
+}
+
+/// `sc` under the state law's f32 firmware (I4F28 cannot hold the observer's ω²·δ,
+/// core/src/law/state.rs, and the firmware refuses it by name), in process and behind the
+/// byte-stream link.
+fn f32_in_process_and_over_the_stream_link(sc: &Case) -> ((HilOutcome, Rows), (HilOutcome, Rows)) {
+    let hs = HilSettings {
+        scalar: maglev_firmware_sim::protocol::ScalarKind::F32,
+        ..HilSettings::default()
+    };
+    let a = execute_hil(sc, &hs, &mut InProc::default());
+    let mut link = socket_link(LinkFaults::default(), 2000);
+    (a, execute_hil(sc, &hs, &mut link))
 }
 
 #[test]
 fn state_law_firmware_with_accelerometers_is_bit_identical_over_the_stream_link() {
     let sc = state_scenario("0.2");
-    // f32: I4F28 cannot hold the observer's ω²·δ (core/src/law/state.rs), and the firmware
-    // refuses it by name.
-    let hs = HilSettings {
-        scalar: maglev_firmware_sim::protocol::ScalarKind::F32,
-        ..HilSettings::default()
-    };
-    let a = execute_hil(&sc, &hs, &mut InProc::default());
-    let mut link = socket_link(LinkFaults::default(), 2000);
-    let b = execute_hil(&sc, &hs, &mut link);
+    let (a, b) = f32_in_process_and_over_the_stream_link(&sc);
     assert_eq!(bits(&a), bits(&b));
     assert_eq!(a.0.events, b.0.events);
     assert!(a.0.events.is_empty(), "{:?}", a.0.events.first());
@@ -185,6 +196,66 @@ fn state_law_firmware_with_accelerometers_is_bit_identical_over_the_stream_link(
         Err(e) => assert!(e.to_string().contains("state_law"), "{e}"),
         Ok(_) => panic!("I4F28 firmware ran the state law"),
     }
+}
+
+/// [`state_scenario`] with `[controller.guidance]`: the guidance pairs under the guidance law,
+/// with the levitation law's gains (as the core's guidance tests run them).
+fn guided_scenario(t_end: &str) -> Case {
+    state_scenario_with(
+        t_end,
+        &[
+            "controller.guidance={kp_V_per_m=51600.0, kd_V_s_per_m=1600.0, \
+           ka_V_s2_per_m=40.0, ki_V_per_m_s=4300.0, kc_V_per_A=10.0}",
+        ],
+    )
+}
+
+#[test]
+fn guided_firmware_is_bit_identical_over_the_stream_link_and_runs_the_guidance_law() {
+    let sc = guided_scenario("0.2");
+    let (a, b) = f32_in_process_and_over_the_stream_link(&sc);
+    assert_eq!(bits(&a), bits(&b));
+    assert_eq!(lateral_bits(&a.1), lateral_bits(&b.1));
+    assert_eq!(a.0.events, b.0.events);
+    assert!(a.0.events.is_empty(), "{:?}", a.0.events.first());
+    // Against the ideal core run of the same case (the core's guidance law in f64 on exact
+    // gaps and accelerations): close in the lateral gap. Without the guidance law in the
+    // firmware (each guidance magnet on its own state law) the lateral motion differs.
+    let ideal = ideal_rows(&sc);
+    let lateral = |r: &Rows| r.column("wheel1_y").unwrap();
+    let (hil, core) = (lateral(&a.1), lateral(&ideal));
+    let unguided = ideal_rows(&state_scenario("0.2"));
+    let err = max_diff(&hil, &core);
+    let scale = max_diff(&core, &lateral(&unguided));
+    assert!(
+        scale > 1e-7,
+        "the guidance law changes the lateral motion: {scale}"
+    );
+    assert!(
+        err < 0.05 * scale,
+        "firmware {err} m off the core, laws differ by {scale} m"
+    );
+}
+
+fn ideal_rows(sc: &Case) -> Rows {
+    let mut rows = compare::recorder();
+    simulate(sc, &mut CoreMagnets::new(), &mut rows, &mut ()).unwrap();
+    rows
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+fn lateral_bits(r: &Rows) -> Vec<u64> {
+    r.column("wheel1_y")
+        .unwrap()
+        .iter()
+        .map(|x| x.to_bits())
+        .collect()
 }
 
 #[test]

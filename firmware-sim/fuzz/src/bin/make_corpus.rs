@@ -35,6 +35,7 @@ fn config(scalar: ScalarKind, law: LawKind) -> Config {
         ramp_ticks: 4,
         watchdog_ticks: 3,
         geometry: Geometry::Ems,
+        guidance: None,
     }
 }
 
