@@ -81,13 +81,6 @@ pub struct RailPoint {
     pub z: f64,
     /// dy_r/dt, m/s.
     pub dy: f64,
-    /// dz_r/dt, m/s.
-    pub dz: f64,
-    /// The track's damping on the wheel's normal approach, N·s/m (0: none).
-    pub damping: f64,
-    /// The track's compliance under the wheel (m/N, in series with Hertz along the normal;
-    /// 0: a rigid rail). docs/cars.md, "The track on the girder".
-    pub compliance: f64,
 }
 
 /// One wheel's contact.
@@ -138,22 +131,16 @@ impl Wheelset {
     }
 
     /// The contact of this wheelset under the static wheel load `p0` (N): the static
-    /// approach and Kalker's coefficients at a unit load, computed once.
+    /// approach (Hertz's, G·p^{2/3}, p the static normal force) and Kalker's coefficients at
+    /// a unit load, computed once.
     pub fn contact(&self, p0: f64) -> WheelsetContact {
-        self.contact_on(p0, 0.0)
-    }
-
-    /// The contact under the static wheel load `p0` (N) on a track of compliance `c_ref`
-    /// (m/N) at rest: the static approach is Hertz's plus the track's, G·p^{2/3} + c_ref·p
-    /// (p the static normal force).
-    pub fn contact_on(&self, p0: f64, c_ref: f64) -> WheelsetContact {
         let cone = self.conicity.atan();
         let p = p0 / cone.cos();
         let unit = hertz_ellipse(1.0, 0.5 / self.r0, 0.5 / self.rail_crown, &self.material);
         WheelsetContact {
             wheelset: *self,
             g: zhai_g(self.r0),
-            d0: zhai_g(self.r0) * p.powf(2.0 / 3.0) + c_ref * p,
+            d0: zhai_g(self.r0) * p.powf(2.0 / 3.0),
             unit: kalker(&unit, &self.material),
             cone,
         }
@@ -193,7 +180,7 @@ impl WheelsetContact {
     pub fn forces(&self, m: &Motion, v: f64, rails: &[RailPoint; 2]) -> ContactForces {
         let w = &self.wheelset;
         let [y, z, phi, psi] = m.q;
-        let [dy, dz, dphi, dpsi] = m.dq;
+        let [dy, _, dphi, dpsi] = m.dq;
         let (cone, g) = (self.cone, self.g);
         let mut out = ContactForces::default();
         for (i, s) in [(0usize, 1.0f64), (1, -1.0)] {
@@ -202,13 +189,7 @@ impl WheelsetContact {
             let delta = s * cone;
             let radius_change = s * w.conicity * rel;
             let d = self.d0 + (radius_change - (z - r.z) - s * w.b * phi) * cone.cos();
-            let normal = if d > 0.0 {
-                let rate =
-                    (s * w.conicity * (dy - r.dy) - (dz - r.dz) - s * w.b * dphi) * cone.cos();
-                (hertz_in_series(d, g, r.compliance) + r.damping * rate).max(0.0)
-            } else {
-                0.0
-            };
+            let normal = if d > 0.0 { (d / g).powf(1.5) } else { 0.0 };
             let creepage = Creepage {
                 x: -radius_change / w.r0 - s * w.b * dpsi / v,
                 y: (dy - r.dy + w.r0 * dphi) / v - psi,
@@ -309,30 +290,6 @@ impl WheelsetContact {
         }
         None
     }
-}
-
-/// The normal force N (N) of a Hertz contact N = (d_H/G)^{3/2} in series with a linear
-/// compliance `c` (m/N) under the total approach `d` (m): G N^{2/3} + c N = d, zero for
-/// d ≤ 0. With u = N^{1/3} that is the cubic G u² + c u³ = d, increasing and convex for
-/// u > 0, solved by Newton from above (u0 the smaller of √(d/G) and ∛(d/c), both upper
-/// bounds), which converges monotonically; `c = 0` is Hertz's closed form.
-pub fn hertz_in_series(d: f64, g: f64, c: f64) -> f64 {
-    if d <= 0.0 {
-        return 0.0;
-    }
-    if c == 0.0 {
-        return (d / g).powf(1.5);
-    }
-    let mut u = (d / g).sqrt().min((d / c).cbrt());
-    for _ in 0..60 {
-        let f = g * u * u + c * u * u * u - d;
-        let step = f / (2.0 * g * u + 3.0 * c * u * u);
-        u -= step;
-        if step.abs() <= 1e-15 * u {
-            break;
-        }
-    }
-    u * u * u
 }
 
 /// One classical Runge–Kutta step of ẋ = f(τ, x) over `dt`, in place; τ is the time within
