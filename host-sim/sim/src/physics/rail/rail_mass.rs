@@ -52,16 +52,22 @@ impl RailMass {
         }
     }
 
-    /// v̈ (m/s²) of the rail mass at x (m) with deflection `v` (m) and rate `dv` (m/s) under
-    /// the rail's vertical force `q` (N) on the wheel (module docs).
-    pub fn acceleration(&self, x: f64, v: f64, dv: f64, q: f64) -> f64 {
-        let k = 1.0 / self.support.compliance_at(x);
+    /// The support's stiffness k(x) = 1/c(x) under a wheel at x (m), N/m.
+    pub fn stiffness_at(&self, x: f64) -> f64 {
+        1.0 / self.support.compliance_at(x)
+    }
+
+    /// v̈ (m/s²) of the rail mass on the support stiffness `k` ([`RailMass::stiffness_at`]
+    /// where it is) with deflection `v` (m) and rate `dv` (m/s) under the rail's vertical
+    /// force `q` (N) on the wheel (module docs).
+    pub fn acceleration(&self, k: f64, v: f64, dv: f64, q: f64) -> f64 {
         (-(q - self.q0) - k * v - self.damping * dv + self.q0 * (k * self.c_mean - 1.0)) / self.mass
     }
 
-    /// The track's vertical force on the deck (up, N) under the rail mass at x (module docs).
-    pub fn deck_force(&self, x: f64, v: f64, dv: f64) -> f64 {
-        (v - self.q0 * self.c_mean) / self.support.compliance_at(x) + self.damping * dv
+    /// The track's vertical force on the deck (up, N) under the rail mass on the support
+    /// stiffness `k` (module docs).
+    pub fn deck_force(&self, k: f64, v: f64, dv: f64) -> f64 {
+        k * (v - self.q0 * self.c_mean) + self.damping * dv
     }
 
     /// The rail mass's deflection at rest at x under the vertical force `q` (N), m.

@@ -91,21 +91,37 @@ impl RailTrain {
         8 * self.cars
     }
 
-    /// The rail points (left, right) of a wheelset at x with the girder's motion `g` (y, z)
-    /// under each rail and its rates `dg`, at speed `v` (module docs; the rails as
-    /// [`RailIrregularity::left`] and [`RailIrregularity::right`] combine the components).
-    fn points(&self, x: f64, g: [[f64; 2]; 2], dg: [[f64; 2]; 2], v: f64) -> [RailPoint; 2] {
-        let ([vz, a, c, gauge], [da, dgauge]) = match &self.irregularity {
-            None => ([0.0; 4], [0.0; 2]),
+    /// The track under a wheelset at x (m) at speed `v` (module docs, "The rails under a
+    /// wheel").
+    fn track_at(&self, x: f64, v: f64) -> TrackAt {
+        let irr = match &self.irregularity {
+            None => [0.0; 6],
             Some(r) => {
                 let h = 1e-3;
                 let rate = |k| v * (r.component(k, x + h) - r.component(k, x - h)) / (2.0 * h);
-                (
-                    r.all(x),
-                    [rate(Component::Alignment), rate(Component::Gauge)],
-                )
+                let [vz, a, c, gauge] = r.all(x);
+                [
+                    vz,
+                    a,
+                    c,
+                    gauge,
+                    rate(Component::Alignment),
+                    rate(Component::Gauge),
+                ]
             }
         };
+        let stiffness = self
+            .support
+            .as_ref()
+            .map_or(0.0, |s| 1.0 / s.compliance_at(x));
+        TrackAt { x, irr, stiffness }
+    }
+
+    /// The rail points (left, right) of a wheelset on the track `at` with the girder's
+    /// motion `g` (y, z) under each rail and its rates `dg` (module docs; the rails as
+    /// [`RailIrregularity::left`] and [`RailIrregularity::right`] combine the components).
+    fn points(&self, at: &TrackAt, g: [[f64; 2]; 2], dg: [[f64; 2]; 2]) -> [RailPoint; 2] {
+        let [vz, a, c, gauge, da, dgauge] = at.irr;
         let side = |s: f64, k: usize| RailPoint {
             y: a + s * 0.5 * gauge + g[k][0],
             z: vz + s * 0.5 * c + g[k][1],
@@ -113,6 +129,25 @@ impl RailTrain {
         };
         [side(1.0, 0), side(-1.0, 1)]
     }
+}
+
+/// The track under a wheelset at x: the irregularity (vertical, alignment, cross level,
+/// gauge, and the rates of alignment and gauge) and the support's stiffness (0: rigid
+/// rails).
+#[derive(Clone, Copy, Debug)]
+struct TrackAt {
+    x: f64,
+    irr: [f64; 6],
+    stiffness: f64,
+}
+
+impl TrackAt {
+    /// No point (matches no x).
+    const NONE: TrackAt = TrackAt {
+        x: f64::NAN,
+        irr: [0.0; 6],
+        stiffness: 0.0,
+    };
 }
 
 /// What a run kept of the 3-D cars, every committed step (t = 0 included): per wheel
@@ -172,7 +207,7 @@ impl Rails for StepRails<'_> {
             (g, [(g1[0] - g0[0]) / r.dt, (g1[1] - g0[1]) / r.dt])
         };
         let ((gl, dl), (gr, dr)) = (at(0), at(1));
-        let mut p = r.spec.points(x, [gl, gr], [dl, dr], v);
+        let mut p = r.spec.points(&r.track(self.car, k, x), [gl, gr], [dl, dr]);
         for (side, p) in p.iter_mut().enumerate() {
             p.z += self.rail[2 * (2 * k + side)];
         }
@@ -198,6 +233,9 @@ pub struct RailRun {
     girder_used: Vec<[f64; 2]>,
     /// The rail's force on every wheel at the end of the step (trial).
     forces: Vec<WheelForce>,
+    /// The track under every wheelset (car by car) at the RK4 stages of the step's
+    /// sub-steps (τ = 0, h/2, h of each): the same points on every pass ([`RailRun::track`]).
+    stages: Vec<TrackAt>,
     /// Time of the step being iterated (its end), s.
     t: f64,
     out: RailOutcome,
@@ -229,6 +267,7 @@ impl RailRun {
             girder1: vec![[0.0; 2]; nw],
             girder_used: vec![[0.0; 2]; nw],
             forces: vec![WheelForce::default(); nw],
+            stages: vec![TrackAt::NONE; spec.cars * 4 * 3 * spec.substeps],
             t: 0.0,
             out: RailOutcome {
                 dt,
@@ -311,10 +350,23 @@ impl RailRun {
             for (w, f) in wheels.iter().enumerate() {
                 let (v, dv) = (rail[2 * w], rail[2 * w + 1]);
                 out[2 * DOFS + 2 * w] = dv;
-                out[2 * DOFS + 2 * w + 1] = m.acceleration(x_car + xs[w / 2], v, dv, f.vertical);
+                let k = self.track(car, w / 2, x_car + xs[w / 2]).stiffness;
+                out[2 * DOFS + 2 * w + 1] = m.acceleration(k, v, dv, f.vertical);
             }
         }
         out
+    }
+
+    /// The track under wheelset `k` of car `car` at x: the step's stage where x is one of
+    /// them (bit for bit), computed otherwise.
+    fn track(&self, car: usize, k: usize, x: f64) -> TrackAt {
+        let n = 3 * self.spec.substeps;
+        let base = (car * 4 + k) * n;
+        self.stages[base..base + n]
+            .iter()
+            .find(|a| a.x == x)
+            .copied()
+            .unwrap_or_else(|| self.spec.track_at(x, self.running.v))
     }
 
     /// Number of wheels (guideway loads).
@@ -335,6 +387,21 @@ impl RailRun {
     /// extrapolated from the last two committed steps.
     pub fn begin(&mut self, t: f64) {
         self.t = t;
+        let (t0, n) = (self.t - self.dt, self.spec.substeps);
+        let h = self.dt / n as f64;
+        let (v, xs) = (self.running.v, self.spec.car.wheelset_x());
+        for car in 0..self.spec.cars {
+            for i in 0..n {
+                let ti = t0 + i as f64 * h;
+                for (j, tau) in [0.0, 0.5 * h, h].into_iter().enumerate() {
+                    let x_car = self.spec.car_x0(car) + v * (ti + tau);
+                    for (k, xw) in xs.iter().enumerate() {
+                        let at = self.spec.track_at(x_car + xw, v);
+                        self.stages[((car * 4 + k) * n + i) * 3 + j] = at;
+                    }
+                }
+            }
+        }
         for ((g1, g0), old) in self
             .girder1
             .iter_mut()
@@ -372,7 +439,7 @@ impl RailRun {
                 None => -f.vertical,
                 Some(m) => {
                     let rail = &self.trial[w / 8][2 * DOFS + 2 * (w % 8)..];
-                    m.deck_force(x, rail[0], rail[1])
+                    m.deck_force(m.stiffness_at(x), rail[0], rail[1])
                 }
             };
             *l = PointLoad {

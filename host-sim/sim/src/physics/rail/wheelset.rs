@@ -143,6 +143,8 @@ impl Wheelset {
             d0: zhai_g(self.r0) * p.powf(2.0 / 3.0),
             unit: kalker(&unit, &self.material),
             cone,
+            sin_cone: cone.sin(),
+            cos_cone: cone.cos(),
         }
     }
 }
@@ -165,12 +167,16 @@ pub struct WheelsetContact {
     unit: [f64; 4],
     /// The cone angle δ = atan λ.
     cone: f64,
+    /// sin δ and cos δ.
+    sin_cone: f64,
+    cos_cone: f64,
 }
 
 impl WheelsetContact {
     /// Kalker's coefficients under the normal force `n` (N).
     pub fn coefficients(&self, n: f64) -> [f64; 4] {
-        let c2 = n.powf(2.0 / 3.0);
+        let c = n.cbrt();
+        let c2 = c * c;
         let u = &self.unit;
         [u[0] * c2, u[1] * c2, u[2] * n, u[3] * c2 * c2]
     }
@@ -188,12 +194,17 @@ impl WheelsetContact {
             let rel = y - r.y;
             let delta = s * cone;
             let radius_change = s * w.conicity * rel;
-            let d = self.d0 + (radius_change - (z - r.z) - s * w.b * phi) * cone.cos();
-            let normal = if d > 0.0 { (d / g).powf(1.5) } else { 0.0 };
+            let d = self.d0 + (radius_change - (z - r.z) - s * w.b * phi) * self.cos_cone;
+            let normal = if d > 0.0 {
+                let r = d / g;
+                r * r.sqrt()
+            } else {
+                0.0
+            };
             let creepage = Creepage {
                 x: -radius_change / w.r0 - s * w.b * dpsi / v,
                 y: (dy - r.dy + w.r0 * dphi) / v - psi,
-                spin: dpsi / v - delta.sin() / w.r0,
+                spin: dpsi / v - s * self.sin_cone / w.r0,
             };
             let radius = w.r0 + radius_change;
             let creep = creep_forces(
