@@ -142,7 +142,6 @@ impl Wheelset {
             g: zhai_g(self.r0),
             d0: zhai_g(self.r0) * p.powf(2.0 / 3.0),
             unit: kalker(&unit, &self.material),
-            cone,
             sin_cone: cone.sin(),
             cos_cone: cone.cos(),
         }
@@ -165,9 +164,7 @@ pub struct WheelsetContact {
     d0: f64,
     /// Kalker's f11, f22, f23, f33 at N = 1 N.
     unit: [f64; 4],
-    /// The cone angle δ = atan λ.
-    cone: f64,
-    /// sin δ and cos δ.
+    /// sin δ and cos δ of the cone angle δ = atan λ.
     sin_cone: f64,
     cos_cone: f64,
 }
@@ -175,7 +172,11 @@ pub struct WheelsetContact {
 impl WheelsetContact {
     /// Kalker's coefficients under the normal force `n` (N).
     pub fn coefficients(&self, n: f64) -> [f64; 4] {
-        let c = n.cbrt();
+        self.coefficients_at(n, n.cbrt())
+    }
+
+    /// [`WheelsetContact::coefficients`] given N (`n`) and N^{1/3} (`c`).
+    fn coefficients_at(&self, n: f64, c: f64) -> [f64; 4] {
         let c2 = c * c;
         let u = &self.unit;
         [u[0] * c2, u[1] * c2, u[2] * n, u[3] * c2 * c2]
@@ -187,19 +188,22 @@ impl WheelsetContact {
         let w = &self.wheelset;
         let [y, z, phi, psi] = m.q;
         let [dy, _, dphi, dpsi] = m.dq;
-        let (cone, g) = (self.cone, self.g);
+        let g = self.g;
+        // sin and cos of δ + φ from δ's (constant) and φ's.
+        let (sin_phi, cos_phi) = phi.sin_cos();
         let mut out = ContactForces::default();
         for (i, s) in [(0usize, 1.0f64), (1, -1.0)] {
             let r = &rails[i];
             let rel = y - r.y;
-            let delta = s * cone;
             let radius_change = s * w.conicity * rel;
             let d = self.d0 + (radius_change - (z - r.z) - s * w.b * phi) * self.cos_cone;
-            let normal = if d > 0.0 {
+            // N = (d/G)^{3/2}, and N^{1/3} = (d/G)^{1/2} for Kalker's coefficients.
+            let (normal, cbrt_n) = if d > 0.0 {
                 let r = d / g;
-                r * r.sqrt()
+                let root = r.sqrt();
+                (r * root, root)
             } else {
-                0.0
+                (0.0, 0.0)
             };
             let creepage = Creepage {
                 x: -radius_change / w.r0 - s * w.b * dpsi / v,
@@ -209,7 +213,7 @@ impl WheelsetContact {
             let radius = w.r0 + radius_change;
             let creep = creep_forces(
                 &creepage,
-                &self.coefficients(normal),
+                &self.coefficients_at(normal, cbrt_n),
                 normal,
                 w.material.friction,
             );
@@ -220,7 +224,10 @@ impl WheelsetContact {
                 0.0
             };
             // Normal n = (−sin(δ + φ), cos(δ + φ)), tangent t = (cos(δ + φ), sin(δ + φ)).
-            let (sn, cs) = (delta + phi).sin_cos();
+            let (sn, cs) = (
+                s * self.sin_cone * cos_phi + self.cos_cone * sin_phi,
+                self.cos_cone * cos_phi - s * self.sin_cone * sin_phi,
+            );
             let lateral = -normal * sn + creep.fy * cs + flange;
             let vertical = normal * cs + creep.fy * sn;
             let arm = s * w.b - rel;
