@@ -285,7 +285,7 @@ fn worst(items: impl Iterator<Item = (String, Index)>, unit: &'static str) -> Fi
 pub fn high_speed_figures(out: &RailOutcome) -> HighSpeedFigures {
     let dx = out.speed * out.dt;
     let wheel = |w: usize| {
-        let side = if w % 2 == 0 { "left" } else { "right" };
+        let side = if w.is_multiple_of(2) { "left" } else { "right" };
         format!("car{}.axle{}.{side}", w / 8 + 1, (w % 8) / 2 + 1)
     };
     let n = out.lateral.len();
