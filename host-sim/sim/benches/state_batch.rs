@@ -13,9 +13,12 @@ use maglev_sim::input::case::Case;
 /// Magnets of paper-5's maglev train.
 const MAGNETS: usize = 1152;
 
+/// The laws, states and law states of [`magnets`].
+type Magnets = (Vec<StateLaw<f64>>, Vec<State<f64>>, Vec<StateLawState<f64>>);
+
 /// The state law of the run's magnets (its gains, controller and step from the scenario),
 /// on loads of a few tens of kN differing per wheel as the cars' do; equilibrium states.
-fn magnets() -> (Vec<StateLaw<f64>>, Vec<State<f64>>, Vec<StateLawState<f64>>) {
+fn magnets() -> Magnets {
     let sets = ["geometry=ems", "law=state", "train.wheel_mass_kg=500"].map(String::from);
     let case = Case::load("paper-5", &sets).unwrap();
     let kind = case.law().unwrap().with_geometry(case.geometry);

@@ -16,9 +16,13 @@
 //!   (5.9–20 Hz), 1 (> 20 Hz); lateral 0.8 f² (0.5–5.4 Hz), 650/f² (5.4–26 Hz), 1 (> 26 Hz).
 //!   Limit 2.5 ("excellent").
 //!
-//! Sources: the limits as cited for UIC 518 / EN 14363 and GB/T 5599-2019 in the
-//! vehicle–bridge literature; **the standards' texts were not read**. The filters the
-//! standards apply before these steps (e.g. a 20 Hz low-pass) are not applied.
+//! Before Y/Q, ΔP/P and ΣY the wheel forces pass a 20 Hz low-pass ([`low_pass`]), the
+//! filter EN 14363 applies to measured wheel–rail forces (as cited); GB/T 5599's own
+//! processing of ΔP/P was not read, and the same filter is applied to it. A wheel whose
+//! unfiltered normal force reaches zero is counted apart ([`RailOutcome::lift_off_steps`]).
+//!
+//! Sources: the limits and the filter as cited for UIC 518 / EN 14363 and GB/T 5599-2019
+//! in the vehicle–bridge literature; **the standards' texts were not read**.
 
 use crate::physics::rail::run::RailOutcome;
 use crate::safety::Figure;
@@ -60,6 +64,42 @@ pub const SPERLING_LIMIT: f64 = 2.5;
 pub const WINDOW_M: f64 = 2.0;
 /// EN 14363's percentile of the sliding means.
 pub const PERCENTILE: f64 = 99.85;
+
+/// The low-pass cut-off applied to the wheel forces before Y/Q, ΔP/P and ΣY, Hz (module
+/// docs).
+pub const FORCE_FILTER_HZ: f64 = 20.0;
+
+/// `x` sampled every `dt` s through a 4th-order Butterworth low-pass of cut-off `fc` Hz
+/// (below the Nyquist frequency 1/(2dt)): two biquad sections of Q = 1/(2 cos(π/8)) and
+/// 1/(2 cos(3π/8)), each the bilinear transform of 1/(s² + s/Q + 1) with the cut-off
+/// pre-warped (K = tan(π fc dt)), so that the digital response is
+/// |H| = 1/√(1 + (tan(π f dt)/K)⁸). Causal, started at rest on x[0] (a signal constant from
+/// its start passes unchanged).
+pub fn low_pass(x: &[f64], dt: f64, fc: f64) -> Vec<f64> {
+    let k = (std::f64::consts::PI * fc * dt).tan();
+    let mut y = x.to_vec();
+    for q in [
+        0.5 / (std::f64::consts::PI / 8.0).cos(),
+        0.5 / (3.0 * std::f64::consts::PI / 8.0).cos(),
+    ] {
+        let norm = 1.0 / (1.0 + k / q + k * k);
+        let b0 = k * k * norm;
+        let (b1, b2) = (2.0 * b0, b0);
+        let a1 = 2.0 * (k * k - 1.0) * norm;
+        let a2 = (1.0 - k / q + k * k) * norm;
+        // Transposed direct form II, its state at rest on the first sample.
+        let x0 = y.first().copied().unwrap_or(0.0);
+        let (mut s1, mut s2) = (x0 * (1.0 - b0), x0 * (b2 - a2));
+        for v in y.iter_mut() {
+            let input = *v;
+            let out = b0 * input + s1;
+            s1 = b1 * input - a1 * out + s2;
+            s2 = b2 * input - a2 * out;
+            *v = out;
+        }
+    }
+    y
+}
 
 /// Sliding means of `x` over windows of `window` samples (each full window, in order);
 /// empty when `x` is shorter than one window.
@@ -108,7 +148,7 @@ pub fn derailment_quotient(y: &[f64], q: &[f64], dx: f64) -> Index {
     Index::at_most(
         value,
         Y_Q_LIMIT,
-        "UIC 518 / EN 14363 (2 m sliding mean, 99.85th percentile), as cited",
+        "UIC 518 / EN 14363 (20 Hz low-pass, 2 m sliding mean, 99.85th percentile), as cited",
     )
 }
 
@@ -118,7 +158,11 @@ pub fn unloading(p: &[f64], p0: f64) -> Index {
         .iter()
         .map(|p| (p0 - p.max(0.0)) / p0)
         .fold(f64::NEG_INFINITY, f64::max);
-    Index::at_most(value, UNLOADING_LIMIT, "GB/T 5599-2019, as cited")
+    Index::at_most(
+        value,
+        UNLOADING_LIMIT,
+        "GB/T 5599-2019, as cited (20 Hz low-pass as EN 14363's wheel forces)",
+    )
 }
 
 /// Prud'homme's limit of the wheelset lateral force, N, for the static axle load `axle`
@@ -136,7 +180,7 @@ pub fn wheelset_lateral_force(sum_y: &[f64], axle: f64, dx: f64) -> Index {
     Index::at_most(
         value,
         prudhomme_limit(axle),
-        "Prud'homme, EN 14363 (10 + 2Q0/3 kN, 2 m sliding mean), as cited",
+        "Prud'homme, EN 14363 (10 + 2Q0/3 kN, 20 Hz low-pass, 2 m sliding mean), as cited",
     )
 }
 
@@ -241,28 +285,26 @@ fn worst(items: impl Iterator<Item = (String, Index)>, unit: &'static str) -> Fi
 pub fn high_speed_figures(out: &RailOutcome) -> HighSpeedFigures {
     let dx = out.speed * out.dt;
     let wheel = |w: usize| {
-        let side = if w % 2 == 0 { "left" } else { "right" };
+        let side = if w.is_multiple_of(2) { "left" } else { "right" };
         format!("car{}.axle{}.{side}", w / 8 + 1, (w % 8) / 2 + 1)
     };
     let n = out.lateral.len();
+    let filter = |x: &Vec<f64>| low_pass(x, out.dt, FORCE_FILTER_HZ);
+    let lateral: Vec<Vec<f64>> = out.lateral.iter().map(filter).collect();
+    let vertical: Vec<Vec<f64>> = out.vertical.iter().map(filter).collect();
     let derailment_quotient = worst(
-        (0..n).map(|w| {
-            (
-                wheel(w),
-                derailment_quotient(&out.lateral[w], &out.vertical[w], dx),
-            )
-        }),
+        (0..n).map(|w| (wheel(w), derailment_quotient(&lateral[w], &vertical[w], dx))),
         "1",
     );
     let unloading_max = worst(
-        (0..n).map(|w| (wheel(w), unloading(&out.vertical[w], out.p0))),
+        (0..n).map(|w| (wheel(w), unloading(&vertical[w], out.p0))),
         "1",
     );
     let wheelset_lateral_force = worst(
         (0..n / 2).map(|a| {
-            let sum: Vec<f64> = out.lateral[2 * a]
+            let sum: Vec<f64> = lateral[2 * a]
                 .iter()
-                .zip(&out.lateral[2 * a + 1])
+                .zip(&lateral[2 * a + 1])
                 .map(|(l, r)| l + r)
                 .collect();
             let name = format!("car{}.axle{}", a / 4 + 1, a % 4 + 1);

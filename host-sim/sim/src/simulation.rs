@@ -39,6 +39,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use time_loop::Riders;
 
 /// What runs over the guideway.
+// One Load per run, built once: its size does not matter.
+#[allow(clippy::large_enum_variant)]
 pub enum Load {
     /// Constant vertical forces moving with the run's speed (a `forces` train, or the single
     /// moving force of the verification case); no controller, no irregularity. They run

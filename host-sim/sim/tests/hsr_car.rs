@@ -93,9 +93,6 @@ impl Rails for Dip {
             y: 0.0,
             z: self.z(x),
             dy: 0.0,
-            compliance: 0.0,
-            dz: 0.0,
-            damping: 0.0,
         };
         [p, p]
     }

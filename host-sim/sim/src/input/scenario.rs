@@ -406,8 +406,9 @@ pub struct HighSpeedKeys {
     pub conicity: Option<f64>,
     /// Wheel–rail friction coefficient; default 0.3.
     pub friction: Option<f64>,
-    /// RK4 sub-steps of the cars per time step; default 2.
-    #[serde(default = "two")]
+    /// RK4 sub-steps of the cars per time step; default 4 (on the track, the wheel on the
+    /// rail's mass needs dt/substeps ≤ 0.5 ms, `physics::rail::run::MAX_CONTACT_STEP`).
+    #[serde(default = "four")]
     pub substeps: usize,
 }
 
@@ -415,8 +416,8 @@ fn car_pitch() -> f64 {
     25.0
 }
 
-fn two() -> usize {
-    2
+fn four() -> usize {
+    4
 }
 
 /// `[track]`: the rails on their fastenings over a slab on the deck (`physics::rail::track`),

@@ -11,7 +11,9 @@
 //! Gravity's moments under roll and pitch of the raised bodies (the pendulum terms) are
 //! not modelled.
 
-use super::wheelset::{rk4, ContactForces, Motion, RailPoint, Wheelset, WheelsetContact};
+use super::wheelset::{
+    rk4, ContactForces, Motion, RailPoint, WheelForce, Wheelset, WheelsetContact,
+};
 use crate::physics::cars::link::{add_spring_damper, Axis, End, Rigid, RX, RY, RZ, UY, UZ};
 use crate::{Error, Result};
 use nalgebra::{DMatrix, DVector};
@@ -194,22 +196,17 @@ pub struct Running {
     minv: DMatrix<f64>,
     minv_c: DMatrix<f64>,
     minv_k: DMatrix<f64>,
-    /// [M⁻¹, −M⁻¹K, −M⁻¹C] row by row (DOFS × 3·DOFS), for [`Running::rate_of`].
-    rows: Vec<f64>,
+    /// [M⁻¹, −M⁻¹K, −M⁻¹C] row by row, each row's non-zero (column, value) pairs, for
+    /// [`Running::rate_of`].
+    rows: Vec<Vec<(usize, f64)>>,
     contact: WheelsetContact,
     /// The static contact forces of a centred wheelset (subtracted: deviations).
     rest: ContactForces,
 }
 
 impl Running {
-    /// The car at speed `v` (> 0) under `gravity` on rigid rails.
+    /// The car at speed `v` (> 0) under `gravity`.
     pub fn new(car: &HsrCar, v: f64, gravity: f64) -> Result<Self> {
-        Self::on_track(car, v, gravity, 0.0)
-    }
-
-    /// The car at speed `v` (> 0) under `gravity` on a track whose compliance under a wheel
-    /// is `c_ref` (m/N) at rest ([`crate::physics::rail::wheelset::Wheelset::contact_on`]).
-    pub fn on_track(car: &HsrCar, v: f64, gravity: f64, c_ref: f64) -> Result<Self> {
         if !(v.is_finite() && v > 0.0) {
             return Err(Error::invalid(
                 "train.speed_mps",
@@ -220,19 +217,23 @@ impl Running {
         let minv = m
             .try_inverse()
             .ok_or_else(|| Error::numerical("high-speed car: singular mass matrix"))?;
-        let contact = car.wheelset.contact_on(car.wheel_load(gravity), c_ref);
-        // At rest on a smooth track of the reference compliance (the static approach's).
-        let smooth = RailPoint {
-            compliance: c_ref,
-            ..RailPoint::default()
-        };
-        let rest = contact.forces(&Motion::default(), v, &[smooth; 2]);
+        let contact = car.wheelset.contact(car.wheel_load(gravity));
+        let rest = contact.forces(&Motion::default(), v, &[RailPoint::default(); 2]);
         let (minv_c, minv_k) = (&minv * c, &minv * k);
-        let mut rows = Vec::with_capacity(3 * DOFS * DOFS);
+        // Row i of [M⁻¹, −M⁻¹K, −M⁻¹C], its non-zero entries in column order (the sums of
+        // [`Running::rate_of`] then add the same terms in the same order as a dense row).
+        let mut rows = Vec::with_capacity(DOFS);
         for i in 0..DOFS {
-            rows.extend((0..DOFS).map(|j| minv[(i, j)]));
-            rows.extend((0..DOFS).map(|j| -minv_k[(i, j)]));
-            rows.extend((0..DOFS).map(|j| -minv_c[(i, j)]));
+            let dense = (0..DOFS)
+                .map(|j| minv[(i, j)])
+                .chain((0..DOFS).map(|j| -minv_k[(i, j)]))
+                .chain((0..DOFS).map(|j| -minv_c[(i, j)]));
+            rows.push(
+                dense
+                    .enumerate()
+                    .filter(|(_, a)| *a != 0.0)
+                    .collect::<Vec<_>>(),
+            );
         }
         Ok(Running {
             car: *car,
@@ -244,6 +245,12 @@ impl Running {
             contact,
             rest,
         })
+    }
+
+    /// The rail's force on a wheel of a centred wheelset at rest on smooth rails (left,
+    /// right): the static state the contact forces are deviations from.
+    pub fn rest_wheel(&self, side: usize) -> WheelForce {
+        self.rest.wheels[side]
     }
 
     /// The contact forces of wheelset `k` at the car state (q, q̇) over `rails`, the
@@ -293,21 +300,33 @@ impl Running {
         rails: &dyn Rails,
         x_car: f64,
     ) -> [f64; 2 * DOFS] {
+        self.rate_with(state, rails, x_car, &mut [WheelForce::default(); 8])
+    }
+
+    /// [`Running::rate_of`], writing the rail's force on every wheel (wheelset by
+    /// wheelset, left then right) into `wheels`.
+    pub fn rate_with(
+        &self,
+        state: &[f64; 2 * DOFS],
+        rails: &dyn Rails,
+        x_car: f64,
+        wheels: &mut [WheelForce; 8],
+    ) -> [f64; 2 * DOFS] {
         let (q, dq) = state.split_at(DOFS);
         let mut input = [0.0; 3 * DOFS];
         for (k, xw) in self.car.wheelset_x().iter().enumerate() {
-            let g = self
-                .wheelset_forces(k, q, dq, rails, x_car + xw)
-                .generalised;
+            let c = self.wheelset_forces(k, q, dq, rails, x_car + xw);
             for (i, dof) in HsrCar::wheelset_dofs(k).iter().enumerate() {
-                input[*dof] += g[i] - self.rest.generalised[i];
+                input[*dof] += c.generalised[i] - self.rest.generalised[i];
             }
+            wheels[2 * k] = c.wheels[0];
+            wheels[2 * k + 1] = c.wheels[1];
         }
         input[DOFS..].copy_from_slice(state);
         let mut out = [0.0; 2 * DOFS];
         out[..DOFS].copy_from_slice(dq);
-        for (o, row) in out[DOFS..].iter_mut().zip(self.rows.chunks_exact(3 * DOFS)) {
-            *o = row.iter().zip(&input).map(|(a, b)| a * b).sum();
+        for (o, row) in out[DOFS..].iter_mut().zip(&self.rows) {
+            *o = row.iter().map(|(j, a)| a * input[*j]).sum();
         }
         out
     }

@@ -235,7 +235,7 @@ pub fn creep_forces(c: &Creepage, f: &[f64; 4], n: f64, friction: f64) -> Creep 
     let fx = -f[0] * c.x;
     let fy = -f[1] * c.y - f[2] * c.spin;
     let mz = f[2] * c.y - f[3] * c.spin;
-    let f0 = fx.hypot(fy);
+    let f0 = (fx * fx + fy * fy).sqrt();
     let s = if f0 > 0.0 {
         she(f0, friction * n) / f0
     } else {

@@ -161,10 +161,31 @@ impl RailIrregularity {
                 format!("the extent [{x_min}, {x_max}] m is empty or not finite"),
             ));
         }
-        let (x0, n) = grid(x_min, x_max);
-        let profiles = Component::ALL
+        let (x0, _) = grid(x_min, x_max);
+        let all = Component::ALL
             .iter()
-            .map(|&c| Profile::from_terms(&terms(spectrum, c, band, seed, x0)?, x0, n))
+            .map(|&c| terms(spectrum, c, band, seed, x0))
+            .collect::<Result<Vec<_>>>()?;
+        Self::from_terms(&all, x_min, x_max)
+    }
+
+    /// The irregularity of given cosine terms, one list per component in
+    /// [`Component::ALL`]'s order, each shifted to the grid's origin as [`terms`] shifts
+    /// them (the origin of `profile::grid(x_min, x_max)`), sampled over `[x_min, x_max]`.
+    pub fn from_terms(components: &[Vec<Term<f64>>], x_min: f64, x_max: f64) -> Result<Self> {
+        if !(x_min.is_finite() && x_max.is_finite() && x_max > x_min) || components.len() != 4 {
+            return Err(Error::invalid(
+                "rail_irregularity",
+                format!(
+                    "needs 4 components over a finite extent, got {} over [{x_min}, {x_max}] m",
+                    components.len()
+                ),
+            ));
+        }
+        let (x0, n) = grid(x_min, x_max);
+        let profiles = components
+            .iter()
+            .map(|t| Profile::from_terms(t, x0, n))
             .collect::<Result<_>>()?;
         Ok(RailIrregularity { profiles })
     }

@@ -4,9 +4,8 @@
 //!
 //! # The layered support under a wheel
 //!
-//! The track is quasi-static (massless between the wheel and the deck): under a wheel load P
-//! the rail head sinks relative to the deck by c(x)·P, the compliances of the layers in
-//! series,
+//! Under a static wheel load P the rail head sinks relative to the deck by c(x)·P, the
+//! compliances of the layers in series,
 //!
 //! ```text
 //! c(x) = c_rail(s) + c_slab,    s = x mod a  (the wheel's place within a fastening bay)
@@ -23,9 +22,22 @@
 //!   under the same point load, Hetényi's w0/P = β_s/(2 k_m): an upper bound, as the pads
 //!   spread the load over about 1/β of rail.
 //!
-//! The pads' damping reaches the wheel as a damper on its normal approach
-//! ([`SlabTrack::wheel_damping`]), in parallel with the series of Hertz and the track (the
-//! track is far softer than Hertz, so its deflection rate is nearly the approach's).
+//! # The rail's participating mass
+//!
+//! Under each wheel the rail has one vertical DOF, a mass m_e on a spring 1/c(x) and a
+//! damper c_e to the deck ([`super::rail_mass`]), the wheel on it through Hertz. m_e and
+//! c_e are the low-frequency expansion of the dynamic stiffness of Hetényi's beam under a
+//! point load: with the foundation k + iωc − mω² per metre, 1/α(ω) = 8 EI^{1/4}
+//! (k + iωc − mω²)^{3/4} ≈ (2k/β)·(1 + (3/4)(iωc − mω²)/k), so
+//!
+//! ```text
+//! k_e = 2k/β,   c_e = (c_p/a)·3/(2β),   m_e = m_r·3/(2β)
+//! ```
+//!
+//! (k = k_p/a; [`SlabTrack::rail_damping`], [`SlabTrack::rail_effective_mass`]): the rail's
+//! mass and the pads' damping over 3/(2β) of rail, the integral of the square of the
+//! Winkler rail's deflection shape e^{−β|x|}(cos βx + sin βx). The support's stiffness is
+//! the discrete rail's 1/c(x) rather than 2k/β, so the wheel still feels the fastenings.
 //!
 //! The deck carries the track's mass per metre ([`SlabTrack::mass_per_m`]: both rails, the
 //! slab and the mortar), and every wheel force reaches it at the wheel's rail point.
@@ -149,14 +161,21 @@ impl SlabTrack {
         discrete_beam_compliance(self.rail_ei, self.pad_stiffness, self.pad_spacing, s)
     }
 
-    /// The pads' damping as a wheel feels it, N·s/m: the smeared damping c_p/a per metre
-    /// weighted by the square of the Winkler rail's deflection shape
-    /// e^{−β|x|}(cos βx + sin βx), whose integral is 3/(2β): c = (c_p/a)·3/(2β), the damper
-    /// that dissipates what the pads do when the rail moves in that shape (module docs).
-    pub fn wheel_damping(&self) -> f64 {
-        let modulus = self.pad_stiffness / self.pad_spacing;
-        let beta = (modulus / (4.0 * self.rail_ei)).powf(0.25);
-        self.pad_damping / self.pad_spacing * 1.5 / beta
+    /// β = (k/(4EI))^{1/4} of the rail on its pads smeared to the modulus k = k_p/a, 1/m.
+    pub fn beta(&self) -> f64 {
+        (self.pad_stiffness / self.pad_spacing / (4.0 * self.rail_ei)).powf(0.25)
+    }
+
+    /// The rail's participating mass under a wheel, kg: the rail's mass per metre over
+    /// 3/(2β) of rail, m_r·3/(2β) (module docs, "The rail's participating mass").
+    pub fn rail_effective_mass(&self) -> f64 {
+        self.rail_mass * 1.5 / self.beta()
+    }
+
+    /// The pads' damping under a wheel, N·s/m: the smeared damping c_p/a over 3/(2β) of
+    /// rail, (c_p/a)·3/(2β) (module docs, "The rail's participating mass").
+    pub fn rail_damping(&self) -> f64 {
+        self.pad_damping / self.pad_spacing * 1.5 / self.beta()
     }
 
     /// The slab's compliance on its mortar, m/N (module docs).
@@ -286,7 +305,7 @@ impl TrackSupport {
     }
 
     /// The mean compliance over a bay (trapezoidal over the table), m/N: the reference the
-    /// wheels' static approach is taken at.
+    /// rail masses' rest is taken at ([`super::rail_mass`]).
     pub fn mean(&self) -> f64 {
         let n = SAMPLES as f64;
         let inner: f64 = self.table[1..SAMPLES].iter().sum();

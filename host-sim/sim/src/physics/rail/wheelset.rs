@@ -81,13 +81,6 @@ pub struct RailPoint {
     pub z: f64,
     /// dy_r/dt, m/s.
     pub dy: f64,
-    /// dz_r/dt, m/s.
-    pub dz: f64,
-    /// The track's damping on the wheel's normal approach, N·s/m (0: none).
-    pub damping: f64,
-    /// The track's compliance under the wheel (m/N, in series with Hertz along the normal;
-    /// 0: a rigid rail). docs/cars.md, "The track on the girder".
-    pub compliance: f64,
 }
 
 /// One wheel's contact.
@@ -138,24 +131,19 @@ impl Wheelset {
     }
 
     /// The contact of this wheelset under the static wheel load `p0` (N): the static
-    /// approach and Kalker's coefficients at a unit load, computed once.
+    /// approach (Hertz's, G·p^{2/3}, p the static normal force) and Kalker's coefficients at
+    /// a unit load, computed once.
     pub fn contact(&self, p0: f64) -> WheelsetContact {
-        self.contact_on(p0, 0.0)
-    }
-
-    /// The contact under the static wheel load `p0` (N) on a track of compliance `c_ref`
-    /// (m/N) at rest: the static approach is Hertz's plus the track's, G·p^{2/3} + c_ref·p
-    /// (p the static normal force).
-    pub fn contact_on(&self, p0: f64, c_ref: f64) -> WheelsetContact {
         let cone = self.conicity.atan();
         let p = p0 / cone.cos();
         let unit = hertz_ellipse(1.0, 0.5 / self.r0, 0.5 / self.rail_crown, &self.material);
         WheelsetContact {
             wheelset: *self,
             g: zhai_g(self.r0),
-            d0: zhai_g(self.r0) * p.powf(2.0 / 3.0) + c_ref * p,
+            d0: zhai_g(self.r0) * p.powf(2.0 / 3.0),
             unit: kalker(&unit, &self.material),
-            cone,
+            sin_cone: cone.sin(),
+            cos_cone: cone.cos(),
         }
     }
 }
@@ -176,14 +164,20 @@ pub struct WheelsetContact {
     d0: f64,
     /// Kalker's f11, f22, f23, f33 at N = 1 N.
     unit: [f64; 4],
-    /// The cone angle δ = atan λ.
-    cone: f64,
+    /// sin δ and cos δ of the cone angle δ = atan λ.
+    sin_cone: f64,
+    cos_cone: f64,
 }
 
 impl WheelsetContact {
     /// Kalker's coefficients under the normal force `n` (N).
     pub fn coefficients(&self, n: f64) -> [f64; 4] {
-        let c2 = n.powf(2.0 / 3.0);
+        self.coefficients_at(n, n.cbrt())
+    }
+
+    /// [`WheelsetContact::coefficients`] given N (`n`) and N^{1/3} (`c`).
+    fn coefficients_at(&self, n: f64, c: f64) -> [f64; 4] {
+        let c2 = c * c;
         let u = &self.unit;
         [u[0] * c2, u[1] * c2, u[2] * n, u[3] * c2 * c2]
     }
@@ -193,31 +187,33 @@ impl WheelsetContact {
     pub fn forces(&self, m: &Motion, v: f64, rails: &[RailPoint; 2]) -> ContactForces {
         let w = &self.wheelset;
         let [y, z, phi, psi] = m.q;
-        let [dy, dz, dphi, dpsi] = m.dq;
-        let (cone, g) = (self.cone, self.g);
+        let [dy, _, dphi, dpsi] = m.dq;
+        let g = self.g;
+        // sin and cos of δ + φ from δ's (constant) and φ's.
+        let (sin_phi, cos_phi) = phi.sin_cos();
         let mut out = ContactForces::default();
         for (i, s) in [(0usize, 1.0f64), (1, -1.0)] {
             let r = &rails[i];
             let rel = y - r.y;
-            let delta = s * cone;
             let radius_change = s * w.conicity * rel;
-            let d = self.d0 + (radius_change - (z - r.z) - s * w.b * phi) * cone.cos();
-            let normal = if d > 0.0 {
-                let rate =
-                    (s * w.conicity * (dy - r.dy) - (dz - r.dz) - s * w.b * dphi) * cone.cos();
-                (hertz_in_series(d, g, r.compliance) + r.damping * rate).max(0.0)
+            let d = self.d0 + (radius_change - (z - r.z) - s * w.b * phi) * self.cos_cone;
+            // N = (d/G)^{3/2}, and N^{1/3} = (d/G)^{1/2} for Kalker's coefficients.
+            let (normal, cbrt_n) = if d > 0.0 {
+                let r = d / g;
+                let root = r.sqrt();
+                (r * root, root)
             } else {
-                0.0
+                (0.0, 0.0)
             };
             let creepage = Creepage {
                 x: -radius_change / w.r0 - s * w.b * dpsi / v,
                 y: (dy - r.dy + w.r0 * dphi) / v - psi,
-                spin: dpsi / v - delta.sin() / w.r0,
+                spin: dpsi / v - s * self.sin_cone / w.r0,
             };
             let radius = w.r0 + radius_change;
             let creep = creep_forces(
                 &creepage,
-                &self.coefficients(normal),
+                &self.coefficients_at(normal, cbrt_n),
                 normal,
                 w.material.friction,
             );
@@ -228,7 +224,10 @@ impl WheelsetContact {
                 0.0
             };
             // Normal n = (−sin(δ + φ), cos(δ + φ)), tangent t = (cos(δ + φ), sin(δ + φ)).
-            let (sn, cs) = (delta + phi).sin_cos();
+            let (sn, cs) = (
+                s * self.sin_cone * cos_phi + self.cos_cone * sin_phi,
+                self.cos_cone * cos_phi - s * self.sin_cone * sin_phi,
+            );
             let lateral = -normal * sn + creep.fy * cs + flange;
             let vertical = normal * cs + creep.fy * sn;
             let arm = s * w.b - rel;
@@ -309,30 +308,6 @@ impl WheelsetContact {
         }
         None
     }
-}
-
-/// The normal force N (N) of a Hertz contact N = (d_H/G)^{3/2} in series with a linear
-/// compliance `c` (m/N) under the total approach `d` (m): G N^{2/3} + c N = d, zero for
-/// d ≤ 0. With u = N^{1/3} that is the cubic G u² + c u³ = d, increasing and convex for
-/// u > 0, solved by Newton from above (u0 the smaller of √(d/G) and ∛(d/c), both upper
-/// bounds), which converges monotonically; `c = 0` is Hertz's closed form.
-pub fn hertz_in_series(d: f64, g: f64, c: f64) -> f64 {
-    if d <= 0.0 {
-        return 0.0;
-    }
-    if c == 0.0 {
-        return (d / g).powf(1.5);
-    }
-    let mut u = (d / g).sqrt().min((d / c).cbrt());
-    for _ in 0..60 {
-        let f = g * u * u + c * u * u * u - d;
-        let step = f / (2.0 * g * u + 3.0 * c * u * u);
-        u -= step;
-        if step.abs() <= 1e-15 * u {
-            break;
-        }
-    }
-    u * u * u
 }
 
 /// One classical Runge–Kutta step of ẋ = f(τ, x) over `dt`, in place; τ is the time within
