@@ -292,6 +292,11 @@ pub fn design(
     ))
 }
 
+/// The supply headroom of a candidate pair (the largest `|V|/V_max` over the reference
+/// disturbances, and the magnet where it is): the caller's, from its case
+/// ([`super::headroom`]).
+pub type Headroom<'a> = dyn Fn(&StateParams, &GuidanceParams) -> crate::Result<(f64, String)> + 'a;
+
 /// What a vehicle design starts from: gains given, or to be designed (from `base`'s timing
 /// and supply for the levitation law).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -347,6 +352,7 @@ fn soft() -> impl Iterator<Item = Placement> {
 /// one levitation candidate a guidance candidate within the supply. None found is an error
 /// naming the worst target of the best candidate, under `controller.state.design` when no
 /// levitation candidate met its margins, else `controller.guidance.design`.
+#[allow(clippy::too_many_arguments)]
 pub fn design_guided(
     v: &VehicleModel,
     inner: &Params,
@@ -355,7 +361,7 @@ pub fn design_guided(
     guidance: Want<GuidanceParams>,
     geometry: Geometry,
     dt: f64,
-    headroom: &dyn Fn(&StateParams, &GuidanceParams) -> crate::Result<(f64, String)>,
+    headroom: &Headroom<'_>,
 ) -> crate::Result<(StateParams, GuidanceParams)> {
     let lev_wheel = v
         .wheels
@@ -507,7 +513,7 @@ fn whole_vehicle(
     g: &GuidanceParams,
     geometry: Geometry,
     dt: f64,
-    headroom: &dyn Fn(&StateParams, &GuidanceParams) -> crate::Result<(f64, String)>,
+    headroom: &Headroom<'_>,
 ) -> crate::Result<bool> {
     let plant = VehiclePlant::guided(v, inner, &LawKind::State(*lev), Some(g), geometry)?;
     let delay = DELAY_PERIODS * dt / lev.periods(dt) as f64;
