@@ -165,6 +165,16 @@ pub fn shown(v: f64) -> String {
     }
 }
 
+/// A guidance law's parameter error under its scenario key.
+pub fn guidance_error(e: maglev_core::ParamError) -> Error {
+    match e.field().key {
+        Some(k) if e.field().name.starts_with("guidance") => {
+            Error::invalid(format!("controller.guidance.{k}"), e.to_string())
+        }
+        _ => Error::invalid("controller.guidance", e.to_string()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -60,7 +60,7 @@ pub fn compile_guidance(
     })?;
     guidance
         .compile::<f64>(timing, magnet)
-        .map_err(crate::input::case::guidance_error)
+        .map_err(crate::error::guidance_error)
 }
 
 /// The trial state of a step, if any.

@@ -53,7 +53,10 @@ fn resolve_guided(mut case: Case) -> Result<Case> {
         .ok_or_else(|| Error::invalid("controller", "a design needs a [controller] section"))?;
     let (base, levitation) = match case.law {
         LawChoice::DesignState(base) => (base, Want::Design),
-        LawChoice::Given(LawKind::State(s)) => (s, Want::Given(s)),
+        LawChoice::Given(k) if k.state().is_some() => {
+            let s = *k.state().expect("matched as the state law");
+            (s, Want::Given(s))
+        }
         _ => {
             return Err(Error::invalid(
                 "controller.guidance",

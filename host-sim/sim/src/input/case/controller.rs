@@ -5,6 +5,7 @@
 
 use super::checks::{in_range, within};
 use super::train::TrainCase;
+use crate::error::guidance_error;
 use crate::input::scenario::{GuidanceSection, Scenario, StateSection};
 use crate::{Error, Result};
 use maglev_core::gap::Geometry;
@@ -95,16 +96,6 @@ pub(super) fn guidance(sc: &Scenario, law: &LawChoice) -> Result<GuidanceChoice>
             g.validate().map_err(guidance_error)?;
             Ok(GuidanceChoice::Given(g))
         }
-    }
-}
-
-/// A guidance law's parameter error under its scenario key.
-pub fn guidance_error(e: maglev_core::ParamError) -> Error {
-    match e.field().key {
-        Some(k) if e.field().name.starts_with("guidance") => {
-            Error::invalid(format!("controller.guidance.{k}"), e.to_string())
-        }
-        _ => Error::invalid("controller.guidance", e.to_string()),
     }
 }
 

@@ -32,11 +32,12 @@ mod track;
 mod train;
 mod viaduct;
 
+pub use crate::error::guidance_error;
 pub use bridge::{check_fe_size, MAX_CONDITION, MAX_FE_DOFS};
 pub use budget::{MAX_PROFILE_M, MAX_RECORD_BYTES, MAX_STEPS, MAX_SUB_STEPS};
 pub use changes::Changes;
 pub use checks::MAX_MAGNITUDE;
-pub use controller::{guidance_error, GuidanceChoice, LawChoice};
+pub use controller::{GuidanceChoice, LawChoice};
 pub use track::TrackCase;
 pub use train::{fig6, high_speed_car, TrainCase, MAX_CARS, MAX_LOADS};
 pub use viaduct::{soil_density, MAX_PIER_ELEMENTS, MAX_RECEIVERS};
