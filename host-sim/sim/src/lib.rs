@@ -58,7 +58,7 @@ pub mod physics;
 #[doc(hidden)]
 pub mod probes;
 #[doc(hidden)]
-pub mod running_safety;
+pub use safety::running as running_safety;
 #[doc(hidden)]
 pub mod safety;
 #[doc(hidden)]

@@ -13,6 +13,8 @@
 //! The derailment quotient Q/P is not computed: the cars have no lateral wheel–rail force
 //! (docs/cars.md, "Decision (vertical and roll)").
 
+pub mod running;
+
 use crate::input::case::Case;
 use crate::physics::train::Node;
 use crate::physics::vehicle::magnet_gaps;
@@ -220,9 +222,9 @@ pub struct SafetyReport {
     pub maglev: Option<MaglevFigures>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub wheel_rail: Option<WheelRailFigures>,
-    /// The 3-D high-speed cars' running safety (`crate::running_safety`).
+    /// The 3-D high-speed cars' running safety ([`running`]).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub high_speed: Option<crate::running_safety::HighSpeedFigures>,
+    pub high_speed: Option<running::HighSpeedFigures>,
     pub per_car: Vec<CarAcceleration>,
 }
 
@@ -614,7 +616,7 @@ impl Safety {
             .limit(None, RMS_SOURCE, le),
             maglev: None,
             wheel_rail: None,
-            high_speed: Some(crate::running_safety::high_speed_figures(out)),
+            high_speed: Some(running::high_speed_figures(out)),
             per_car,
         };
         report.pass = report.judged().iter().all(|(_, pass)| *pass);

@@ -596,3 +596,6 @@ fn no_candidate(key: &str, best: Option<Check>, mass: f64, p0: f64) -> crate::Er
         ),
     )
 }
+
+#[cfg(test)]
+mod guided_tests;

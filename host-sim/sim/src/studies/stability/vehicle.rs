@@ -661,6 +661,4 @@ pub fn min_damping(poles: &[Complex]) -> f64 {
 }
 
 #[cfg(test)]
-mod guided_tests;
-#[cfg(test)]
-mod tests;
+pub(super) mod tests;

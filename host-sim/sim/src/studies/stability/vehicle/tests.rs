@@ -292,7 +292,7 @@ fn ems_gap_loop_passage_with_500_kg_magnets_keeps_every_gap() {
 
 /// A levitation unit without a body: one magnet of mass `m` (vertical and lateral DOFs, no
 /// springs) carrying its own weight.
-pub(super) fn bare_magnet(m: f64) -> VehicleModel {
+pub(in crate::studies::stability) fn bare_magnet(m: f64) -> VehicleModel {
     let w = m * GRAVITY;
     VehicleModel {
         m: DMatrix::from_diagonal_element(2, 2, m),

@@ -24,8 +24,8 @@
 //! Sources: the limits and the filter as cited for UIC 518 / EN 14363 and GB/T 5599-2019
 //! in the vehicle–bridge literature; **the standards' texts were not read**.
 
+use super::Figure;
 use crate::physics::rail::run::RailOutcome;
-use crate::safety::Figure;
 use realfft::RealFftPlanner;
 
 /// One judged index.

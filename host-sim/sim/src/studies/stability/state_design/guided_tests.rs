@@ -2,9 +2,16 @@
 //! the closed-form poles of the pole placement on a bare guided magnet, and a lateral
 //! quarter car written out by hand.
 
-use super::*;
-use crate::studies::stability::state_design::{place, place_guidance};
+use super::{place, place_guidance};
+use crate::physics::vehicle::{Fig1, VehicleModel};
+use crate::studies::stability::vehicle::*;
+use crate::studies::stability::Complex;
+use maglev_core::gap::Geometry;
 use maglev_core::law::state::StateParams;
+use maglev_core::levitation::GRAVITY;
+use maglev_core::LawKind;
+use maglev_core::Params;
+use nalgebra::DMatrix;
 
 fn inner() -> Params {
     Params::paper_wheel(1e-4)
@@ -62,7 +69,7 @@ fn placed(c: f64, (r, zeta, rho): (f64, f64, f64)) -> Vec<Complex> {
 #[test]
 fn a_bare_guided_magnet_has_the_placed_poles_and_no_zero_pole() {
     let m = 800.0;
-    let v = super::tests::bare_magnet(m);
+    let v = crate::studies::stability::vehicle::tests::bare_magnet(m);
     let p = Params {
         p0: m * GRAVITY,
         ..inner()
