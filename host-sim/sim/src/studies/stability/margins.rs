@@ -118,13 +118,6 @@ impl BrokenLoop {
     }
 }
 
-/// The frequency grid (rad/s): 100 points a decade from 1e-2 to 1e6.
-pub(super) fn grid() -> Vec<f64> {
-    (0..=800)
-        .map(|i| 10f64.powf(-2.0 + i as f64 / 100.0))
-        .collect()
-}
-
 /// Bisection on a sign change of `g` in `[a, b]` (log-spaced), to 1e-12 relative.
 fn bisect(mut a: f64, mut b: f64, g: impl Fn(f64) -> f64) -> f64 {
     let ga = g(a);
@@ -170,7 +163,7 @@ pub fn margins(plant: &VehiclePlant, k: usize, delay: f64) -> crate::Result<Marg
     if !stable {
         return Ok(none);
     }
-    let ws = grid();
+    let ws = super::resolvent::grid();
     let ls: Vec<Complex<f64>> = ws.iter().map(|&w| lp.at_freq(w)).collect();
     // Gain: κ = −1/L where L is real and negative; ω = 0 included when L(0) is finite.
     let mut kappas = Vec::new();

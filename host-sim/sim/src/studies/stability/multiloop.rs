@@ -262,7 +262,9 @@ fn mu_upper(m: &DMatrix<Complex<f64>>, refine: bool) -> f64 {
 
 /// The frequency grid (rad/s): ω = 0, then the loop-at-a-time margins' grid.
 fn grid() -> Vec<f64> {
-    std::iter::once(0.0).chain(super::margins::grid()).collect()
+    std::iter::once(0.0)
+        .chain(super::resolvent::grid())
+        .collect()
 }
 
 /// The disk margin of `cut`, its loops named `loops` (module docs).

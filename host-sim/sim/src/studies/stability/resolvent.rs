@@ -10,6 +10,13 @@
 
 use nalgebra::{Complex, DMatrix};
 
+/// The frequency grid (rad/s): 100 points a decade from 1e-2 to 1e6.
+pub(super) fn grid() -> Vec<f64> {
+    (0..=800)
+        .map(|i| 10f64.powf(-2.0 + i as f64 / 100.0))
+        .collect()
+}
+
 /// `F·(sI − A)⁻¹·B` for one `(A, B, F)` (module docs).
 #[derive(Clone, Debug)]
 pub struct Resolvent {
