@@ -27,6 +27,15 @@ fn out_dir(name: &str) -> PathBuf {
 /// Runs `maglev run SCENARIO --set geometry=ems --set law=state --set GAINS` with `sets`,
 /// expecting success; returns summary.json.
 fn run_state(scenario: &str, name: &str, sets: &[String]) -> serde_json::Value {
+    let sets: Vec<String> = std::iter::once(GAINS.to_string())
+        .chain(sets.iter().cloned())
+        .collect();
+    run_ems_state(scenario, name, &sets)
+}
+
+/// Runs `maglev run SCENARIO --set geometry=ems --set law=state` with `sets` (the gains
+/// among them), expecting success; returns summary.json.
+fn run_ems_state(scenario: &str, name: &str, sets: &[String]) -> serde_json::Value {
     let d = out_dir(name);
     let mut args = vec![
         "run",
@@ -35,8 +44,6 @@ fn run_state(scenario: &str, name: &str, sets: &[String]) -> serde_json::Value {
         "geometry=ems",
         "--set",
         "law=state",
-        "--set",
-        GAINS,
         "--out",
         d.to_str().unwrap(),
     ];
@@ -115,91 +122,70 @@ fn heavy_ems_magnets_keep_their_gaps() {
 /// design works on a rigid rail; the runs are on the flexible span.
 #[test]
 fn designed_guided_gains_hold_the_fig1_car() {
-    for mass in [1000] {
-        let m = format!("vehicle.wheel_mass_kg={mass}");
-        let o = maglev(&[
-            "stability",
-            "--scenario",
-            "paper-4.2",
-            "--set",
-            "geometry=ems",
-            "--set",
-            "law=state",
-            "--set",
-            &m,
-            "--set",
-            "controller.state={design=true, vmax_V=500.0}",
-            "--set",
-            "controller.guidance={design=true}",
-            "--format",
-            "json",
-        ]);
-        assert!(
-            o.status.success(),
-            "{mass} kg: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-        let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        let targets = r["targets"]["targets"].as_array().unwrap();
-        assert_eq!(targets.len(), 8, "{mass} kg");
-        for t in targets {
-            let (v, limit) = (f(&t["value"]), f(&t["limit"]));
-            let met = if t["sense"] == "<=" {
-                v <= limit
-            } else {
-                v >= limit
-            };
-            assert!(met && t["met"] == true, "{mass} kg: {t}");
-        }
-        let gains = |key: &str, extra: &str| {
-            let g = r[key].as_object().unwrap();
-            let kv: Vec<String> = [
-                "kp_V_per_m",
-                "kd_V_s_per_m",
-                "ka_V_s2_per_m",
-                "ki_V_per_m_s",
-                "kc_V_per_A",
-            ]
-            .iter()
-            .map(|k| format!("{k}={:?}", f(&g[*k])))
-            .collect();
-            format!("{{{}{extra}}}", kv.join(", "))
+    let mass = 1000;
+    let m = format!("vehicle.wheel_mass_kg={mass}");
+    let o = maglev(&[
+        "stability",
+        "--scenario",
+        "paper-4.2",
+        "--set",
+        "geometry=ems",
+        "--set",
+        "law=state",
+        "--set",
+        &m,
+        "--set",
+        "controller.state={design=true, vmax_V=500.0}",
+        "--set",
+        "controller.guidance={design=true}",
+        "--format",
+        "json",
+    ]);
+    assert!(
+        o.status.success(),
+        "{mass} kg: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let targets = r["targets"]["targets"].as_array().unwrap();
+    assert_eq!(targets.len(), 8, "{mass} kg");
+    for t in targets {
+        let (v, limit) = (f(&t["value"]), f(&t["limit"]));
+        let met = if t["sense"] == "<=" {
+            v <= limit
+        } else {
+            v >= limit
         };
-        let state = format!("controller.state={}", gains("gains", ", vmax_V=500.0"));
-        let guidance = format!("controller.guidance={}", gains("guidance_gains", ""));
-        for speed in [10, 100] {
-            let what = format!("designed, {mass} kg at {speed} m/s");
-            let d = out_dir(&format!("designed-{mass}-{speed}"));
-            let sp = format!("speed={speed}");
-            let o = maglev(&[
-                "run",
-                "paper-4.2",
-                "--set",
-                "geometry=ems",
-                "--set",
-                "law=state",
-                "--set",
-                &m,
-                "--set",
-                &sp,
-                "--set",
-                &state,
-                "--set",
-                &guidance,
-                "--out",
-                d.to_str().unwrap(),
-            ]);
-            assert!(
-                o.status.success(),
-                "{what}: {}",
-                String::from_utf8_lossy(&o.stderr)
-            );
-            let s = summary(&d);
-            let _ = std::fs::remove_dir_all(&d);
-            within_limits(&s, &what);
-            let saturated = s["saturated_s"].as_f64().unwrap_or(0.0);
-            assert!(saturated <= 0.010, "{what}: {saturated} s saturated");
-        }
+        assert!(met && t["met"] == true, "{mass} kg: {t}");
+    }
+    let gains = |key: &str, extra: &str| {
+        let g = r[key].as_object().unwrap();
+        let kv: Vec<String> = [
+            "kp_V_per_m",
+            "kd_V_s_per_m",
+            "ka_V_s2_per_m",
+            "ki_V_per_m_s",
+            "kc_V_per_A",
+        ]
+        .iter()
+        .map(|k| format!("{k}={:?}", f(&g[*k])))
+        .collect();
+        format!("{{{}{extra}}}", kv.join(", "))
+    };
+    let state = format!("controller.state={}", gains("gains", ", vmax_V=500.0"));
+    let guidance = format!("controller.guidance={}", gains("guidance_gains", ""));
+    for speed in [10, 100] {
+        let what = format!("designed, {mass} kg at {speed} m/s");
+        let sets = [
+            m.clone(),
+            format!("speed={speed}"),
+            state.clone(),
+            guidance.clone(),
+        ];
+        let s = run_ems_state("paper-4.2", &format!("designed-{mass}-{speed}"), &sets);
+        within_limits(&s, &what);
+        let saturated = s["saturated_s"].as_f64().unwrap_or(0.0);
+        assert!(saturated <= 0.010, "{what}: {saturated} s saturated");
     }
 }
 

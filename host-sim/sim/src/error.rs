@@ -165,6 +165,14 @@ pub fn shown(v: f64) -> String {
     }
 }
 
+/// The refusal of `[controller.guidance]` without the state law.
+pub fn guidance_needs_state_law() -> Error {
+    Error::invalid(
+        "controller.guidance",
+        "needs law = \"state\" (the guidance law shares [controller.state]'s timing and supply)",
+    )
+}
+
 /// A guidance law's parameter error under its scenario key.
 pub fn guidance_error(e: maglev_core::ParamError) -> Error {
     match e.field().key {

@@ -52,12 +52,9 @@ pub fn compile_guidance(
     law: &LawKind,
     magnet: &Params,
 ) -> Result<GuidanceLaw<f64>> {
-    let timing = law.state().ok_or_else(|| {
-        Error::invalid(
-            "controller.guidance",
-            "needs law = \"state\" (the guidance law shares its timing and supply)",
-        )
-    })?;
+    let timing = law
+        .state()
+        .ok_or_else(crate::error::guidance_needs_state_law)?;
     guidance
         .compile::<f64>(timing, magnet)
         .map_err(crate::error::guidance_error)

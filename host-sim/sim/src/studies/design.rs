@@ -53,16 +53,11 @@ fn resolve_guided(mut case: Case) -> Result<Case> {
         .ok_or_else(|| Error::invalid("controller", "a design needs a [controller] section"))?;
     let (base, levitation) = match case.law {
         LawChoice::DesignState(base) => (base, Want::Design),
-        LawChoice::Given(k) if k.state().is_some() => {
-            let s = *k.state().expect("matched as the state law");
-            (s, Want::Given(s))
-        }
-        _ => {
-            return Err(Error::invalid(
-                "controller.guidance",
-                "needs law = \"state\" (the guidance law shares its timing and supply)",
-            ))
-        }
+        LawChoice::Given(k) => match k.state() {
+            Some(s) => (*s, Want::Given(*s)),
+            None => return Err(crate::error::guidance_needs_state_law()),
+        },
+        _ => return Err(crate::error::guidance_needs_state_law()),
     };
     let guidance = match case.guidance {
         GuidanceChoice::Given(g) => Want::Given(g),

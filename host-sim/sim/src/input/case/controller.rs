@@ -78,11 +78,7 @@ pub(super) fn guidance(sc: &Scenario, law: &LawChoice) -> Result<GuidanceChoice>
         return Ok(GuidanceChoice::None);
     };
     if law.kind().state().is_none() {
-        return Err(Error::invalid(
-            "controller.guidance",
-            "needs law = \"state\" (the guidance law shares [controller.state]'s timing and \
-             supply)",
-        ));
+        return Err(crate::error::guidance_needs_state_law());
     }
     match section {
         GuidanceSection::Design { .. } => Ok(GuidanceChoice::Design),

@@ -10,7 +10,7 @@ use crate::studies::stability::headroom::{headroom, Headroom};
 use crate::studies::stability::marginal::{self, Honest, Kind};
 use crate::studies::stability::margins::{margins, Margins};
 use crate::studies::stability::multiloop::{vehicle_disk_margin, DiskMargin};
-use crate::studies::stability::suspension::{held_poles, pole_target};
+use crate::studies::stability::suspension::{held_poles, target_of};
 use crate::studies::stability::targets::{targets, Inputs, Targets, MAX_REAL_PART};
 use crate::studies::stability::vehicle::{min_damping, runnable, vehicle_of, VehiclePlant};
 use crate::studies::stability::Complex;
@@ -182,9 +182,10 @@ pub fn case_report(
     let margins = all_margins(&plant, delay)?;
     let disk_margin = vehicle_disk_margin(&plant, delay)?;
     let headroom = headroom(case)?;
+    let suspension_poles = held_poles(&v)?;
     let targets = targets(&Inputs {
         max_real_part: vd.max_real_part,
-        pole_target: pole_target(&v, MAX_REAL_PART)?,
+        pole_target: target_of(&suspension_poles, MAX_REAL_PART),
         zero_poles: vd.zero_poles,
         margins: &margins,
         disk: &disk_margin,
@@ -256,7 +257,7 @@ pub fn case_report(
         gap_loop,
         girder_modes: girder,
         coupled,
-        suspension_poles: held_poles(&v)?,
+        suspension_poles,
         targets,
     })
 }

@@ -148,14 +148,7 @@ pub fn place_guidance(
     base: &StateParams,
     candidate: impl Into<Placement>,
 ) -> GuidanceParams {
-    let s = place(0.5 * mass, p0, inner, base, candidate);
-    GuidanceParams {
-        kp: s.kp,
-        kd: s.kd,
-        ka: s.ka,
-        ki: s.ki,
-        kc: s.kc,
-    }
+    GuidanceParams::same_as(&place(0.5 * mass, p0, inner, base, candidate))
 }
 
 /// How a candidate fares: its worst target's shortfall (≤ 0: every target met) and which.
@@ -166,8 +159,6 @@ pub struct Check {
     pub shortfall: f64,
     pub worst: String,
     pub max_real_part: f64,
-    /// The pole target it was held to (1/s, [`super::suspension::pole_target`]).
-    pub pole_target: f64,
     pub margins: Vec<Margins>,
 }
 
@@ -226,7 +217,6 @@ pub fn check_guided(
         shortfall: worst.0,
         worst: worst.1,
         max_real_part: max_re,
-        pole_target: target,
         margins,
     })
 }
@@ -352,12 +342,12 @@ fn soft() -> impl Iterator<Item = Placement> {
 /// of a guided vehicle"): decentralised, one set per magnet kind, searched together.
 ///
 /// For each levitation candidate in order ([`place`] on the first wheel's vertical mass and
-/// load; only the given gains when they are given) whose levitation magnets meet every margin
-/// target and the supply headroom with the pairs at the first guidance candidate, each guidance candidate in order
-/// ([`place_guidance`] on the first guided wheel's lateral mass; only the given ones when
-/// given; the soft placements first, [`guidance_candidates`]) is checked on the whole vehicle: every pole left of the pole target, then every
-/// magnet's margins, then the disk margin and the supply headroom ([`whole_vehicle`]). The
-/// first pair meeting every target is the design, preferring within
+/// load; only the given gains when they are given) that [`levitation_miss`] lets through,
+/// each guidance candidate in order ([`place_guidance`] on the first guided wheel's lateral
+/// mass; only the given ones when given; the soft placements first,
+/// [`guidance_candidates`]) is checked on the whole vehicle: every pole left of the pole
+/// target, then every magnet's margins, then the disk margin and the supply headroom
+/// ([`whole_vehicle`]). The first pair meeting every target is the design, preferring within
 /// one levitation candidate a guidance candidate within the supply. None found is an error
 /// naming the worst target of the best candidate, under `controller.state.design` when no
 /// levitation candidate met its margins, else `controller.guidance.design`.
@@ -406,7 +396,6 @@ pub fn design_guided(
             .collect(),
     };
     let first_guide = guide_candidates[0];
-    let is_lev = |n: &str| n.starts_with("lev");
     let lev_candidates: Vec<StateParams> = match levitation {
         Want::Given(l) => vec![l],
         Want::Design => candidates()
@@ -422,52 +411,10 @@ pub fn design_guided(
     let mut levitation_met = false;
     for lev in lev_candidates {
         if levitation == Want::Design {
-            // The levitation loops' own margins first, the pairs at the first guidance
-            // candidate: a candidate that misses them is not paired.
-            let ch = check_guided(
-                v,
-                inner,
-                &lev,
-                Some(&first_guide),
-                geometry,
-                dt,
-                is_lev,
-                false,
-            )?;
-            let (short, what) = margins_shortfall(&ch.margins);
-            if short > 0.0 {
+            let miss = levitation_miss(v, inner, &lev, &first_guide, geometry, dt, headroom)?;
+            if let Some(miss) = miss {
                 if !levitation_met {
-                    keep(
-                        &mut best,
-                        Check {
-                            shortfall: short,
-                            worst: what,
-                            ..ch
-                        },
-                    );
-                }
-                continue;
-            }
-            // The supply headroom is the levitation loops' (the rail's irregularity drives
-            // them): a candidate that spends it is not paired either. (Only where the first
-            // guidance candidate leaves the vehicle stable: an unstable response says nothing.)
-            let ratio = if ch.max_real_part < 0.0 {
-                headroom(&lev, &first_guide)?.0
-            } else {
-                0.0
-            };
-            if ratio > MAX_HEADROOM_RATIO {
-                if !levitation_met {
-                    keep(
-                        &mut best,
-                        Check {
-                            shortfall: (ratio - MAX_HEADROOM_RATIO) / MAX_HEADROOM_RATIO,
-                            worst: format!(
-                                "headroom_ratio: {ratio:.3} against {MAX_HEADROOM_RATIO}"
-                            ),
-                            ..ch
-                        },
-                    );
+                    keep(&mut best, miss);
                 }
                 continue;
             }
@@ -506,6 +453,43 @@ pub fn design_guided(
         ("controller.guidance.design", my, v.p0[gw])
     };
     Err(no_candidate(key.0, best, key.1, key.2))
+}
+
+/// A levitation candidate's miss before it is paired (`None`: it may be paired), with the
+/// pairs at the first guidance candidate `g`: the levitation loops' own margins, then the
+/// supply headroom, which the rail's irregularity spends at the levitation magnets. The
+/// headroom is asked only where `g` leaves the vehicle stable: an unstable response says
+/// nothing.
+fn levitation_miss(
+    v: &VehicleModel,
+    inner: &Params,
+    lev: &StateParams,
+    g: &GuidanceParams,
+    geometry: Geometry,
+    dt: f64,
+    headroom: &Headroom<'_>,
+) -> crate::Result<Option<Check>> {
+    let is_lev = |n: &str| n.starts_with("lev");
+    let ch = check_guided(v, inner, lev, Some(g), geometry, dt, is_lev, false)?;
+    let (short, what) = margins_shortfall(&ch.margins);
+    if short > 0.0 {
+        return Ok(Some(Check {
+            shortfall: short,
+            worst: what,
+            ..ch
+        }));
+    }
+    if ch.max_real_part < 0.0 {
+        let (ratio, _) = headroom(lev, g)?;
+        if ratio > MAX_HEADROOM_RATIO {
+            return Ok(Some(Check {
+                shortfall: (ratio - MAX_HEADROOM_RATIO) / MAX_HEADROOM_RATIO,
+                worst: format!("headroom_ratio: {ratio:.3} against {MAX_HEADROOM_RATIO}"),
+                ..ch
+            }));
+        }
+    }
+    Ok(None)
 }
 
 /// The whole vehicle's targets on a candidate that meets every other (they cost more): the

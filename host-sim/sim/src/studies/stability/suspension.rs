@@ -49,12 +49,15 @@ pub fn held_poles(v: &VehicleModel) -> crate::Result<Vec<Complex>> {
 /// own target, 1/s) and the held suspension's slowest pole when that is stable (a suspension
 /// with an undamped or unrestrained mode leaves the target at `loops`).
 pub fn pole_target(v: &VehicleModel, loops: f64) -> crate::Result<f64> {
-    let slowest = held_poles(v)?.first().map_or(f64::NEG_INFINITY, |p| p.re);
-    Ok(if slowest < 0.0 {
-        loops.max(slowest)
-    } else {
-        loops
-    })
+    Ok(target_of(&held_poles(v)?, loops))
+}
+
+/// [`pole_target`] from the held suspension's poles `held` (sorted, as [`held_poles`]).
+pub fn target_of(held: &[Complex], loops: f64) -> f64 {
+    match held.first() {
+        Some(p) if p.re < 0.0 => loops.max(p.re),
+        _ => loops,
+    }
 }
 
 #[cfg(test)]

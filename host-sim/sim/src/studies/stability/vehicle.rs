@@ -288,10 +288,7 @@ impl VehiclePlant {
         })?;
         let (gains, state_law) = (law.gap_loop(), law.state());
         if guidance.is_some() && state_law.is_none() {
-            return Err(crate::Error::invalid(
-                "controller.guidance",
-                "needs law = \"state\" (the guidance law shares its timing and supply)",
-            ));
+            return Err(crate::error::guidance_needs_state_law());
         }
         if let Some(g) = guidance {
             g.validate().map_err(crate::input::case::guidance_error)?;
