@@ -393,7 +393,10 @@ pub fn scenario_table(r: &ScenarioReport) -> String {
         out += &format!(
             "girder span {} mode {:<8}{:.4} Hz (closed form {:.4}), modal mass {:.1} kg, ζ {:.4}, at magnets {:?}\n",
             m.span,
-            m.n,
+            match m.kind {
+                "bending-z" => m.n.to_string(),
+                kind => format!("{} {kind}", m.n),
+            },
             m.frequency_hz,
             m.closed_form_hz,
             m.modal_mass_kg,

@@ -94,6 +94,15 @@ pub struct Fig1 {
     /// X of the body CoM ahead of the middle of the wheelbase (m); 0 for the paper's car.
     #[serde(rename = "com_ahead_m")]
     pub com_ahead: f64,
+    /// X of the leading wheel at t = 0 (m from the left end of span 1); 0 for the paper's
+    /// passage, which starts with the leading wheel over the first support. A car at
+    /// standstill over a span sits at its position.
+    #[serde(rename = "position_m", default, skip_serializing_if = "is_zero")]
+    pub position: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 impl Default for Fig1 {
@@ -112,6 +121,7 @@ impl Default for Fig1 {
             body_height: 2.0,
             wheel_mass: 0.0,
             com_ahead: 0.0,
+            position: 0.0,
         }
     }
 }
@@ -245,7 +255,7 @@ impl VehicleModel {
                 add_link_spring(&mut c, p.c, dir, dof, delta);
             }
             wheels.push(Wheel {
-                x0: wx - p.half_length,
+                x0: p.position + (wx - p.half_length),
                 ey: p.offset_y + wy,
                 ez: p.target_height,
                 dof_y: Some(dof_y),

@@ -160,6 +160,9 @@ pub fn with(case: &Case, changes: &Changes) -> Result<Case> {
 }
 
 #[cfg(test)]
+mod time_run_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
     use crate::input::case::LawChoice;

@@ -194,6 +194,13 @@ fn fig1(k: &Fig1Keys) -> Result<(TrainCase, Geometry)> {
         )?,
         wheel_mass: non_negative("vehicle.wheel_mass_kg", k.wheel_mass_kg)?,
         com_ahead: 0.0,
+        position: within(
+            "vehicle.position_m",
+            finite("vehicle.position_m", k.position_m)?,
+            -1e6,
+            1e6,
+            "m: within 1000 km of the first support",
+        )?,
     };
     bounded("train.repeat", k.repeat, 1, MAX_CARS)?;
     let car_length = match k.car_length_m {

@@ -65,8 +65,13 @@ pub fn coupled(case: &Case, count: usize) -> crate::Result<Option<(Vec<GirderMod
     let vd: Verdict = plant.verdict()?;
     let honest = marginal::honest(&plant.a, &plant.states, &vd.poles)?;
     let source = format!(
-        "the FE span's first {count} vertical bending modes ({} elements per span), each \
+        "the FE span's first {count} vertical bending modes{} ({} elements per span), each \
          checked against the closed-form Timoshenko frequency (fe_vs_closed_form)",
+        if modes.iter().any(|m| m.kind != "bending-z") {
+            format!(", and its first {count} torsion and lateral bending modes where the magnets see them")
+        } else {
+            String::new()
+        },
         case.elements_per_span
     );
     let c = Coupled {
@@ -88,7 +93,10 @@ fn name_girder_states(states: &mut [String], nv: usize, modes: &[GirderMode]) {
         for (from, to) in [("q", "q"), ("v", "v")] {
             let old = format!("{from}[{}]", nv + j);
             if let Some(s) = states.iter_mut().find(|s| **s == old) {
-                *s = format!("span{}.mode{}.{to}", m.span, m.n);
+                *s = match m.kind {
+                    "bending-z" => format!("span{}.mode{}.{to}", m.span, m.n),
+                    kind => format!("span{}.{kind}{}.{to}", m.span, m.n),
+                };
             }
         }
     }

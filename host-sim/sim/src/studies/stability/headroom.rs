@@ -101,10 +101,12 @@ impl RailPlant {
             .map(|w| GirderMode {
                 span: 0,
                 n: w + 1,
+                kind: "bending-z",
                 frequency_hz: 0.0,
                 modal_mass_kg: 1.0,
                 damping_ratio: 0.0,
                 at_magnets: (0..nw).map(|k| if k == w { 1.0 } else { 0.0 }).collect(),
+                lateral_at_magnets: vec![0.0; nw],
                 closed_form_hz: 0.0,
                 fe_vs_closed_form: 0.0,
             })

@@ -220,7 +220,9 @@ impl VehiclePlant {
                 "internal: one static load per wheel expected",
             ));
         }
-        if girder.iter().any(|g| g.at_magnets.len() != v.wheels.len()) {
+        if girder.iter().any(|g| {
+            g.at_magnets.len() != v.wheels.len() || g.lateral_at_magnets.len() != v.wheels.len()
+        }) {
             return Err(crate::Error::numerical(
                 "internal: one girder mode value per wheel expected",
             ));
@@ -368,12 +370,18 @@ impl VehiclePlant {
                 if guidance.is_some() && k == 1 {
                     pair_u = Some(at.y);
                 }
-                // The gap reads the node and (levitation) the girder under it (Eq. 2).
+                // The gap reads the node and the rail under it, vertically (levitation, Eq. 2)
+                // or laterally (the pair's offset); the magnet's force loads the girder back.
                 let mut gap_terms = vec![(dof, dh / h0)];
-                if k == 0 {
-                    for (j, g) in girder.iter().enumerate() {
-                        gap_terms.push((nv + j, -dh * g.at_magnets[w] / h0));
-                        f[(nv + j, at.x)] -= g.at_magnets[w] * 2.0 * p0;
+                for (j, g) in girder.iter().enumerate() {
+                    let phi = if k == 0 {
+                        g.at_magnets[w]
+                    } else {
+                        g.lateral_at_magnets[w]
+                    };
+                    if phi != 0.0 || k == 0 {
+                        gap_terms.push((nv + j, -dh * phi / h0));
+                        f[(nv + j, at.x)] -= phi * df * 2.0 * p0;
                     }
                 }
                 let dv = match state_law {
