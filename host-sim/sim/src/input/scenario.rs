@@ -333,10 +333,6 @@ pub enum VehicleSection {
     Unit(UnitKeys),
 }
 
-fn is_zero(x: &f64) -> bool {
-    *x == 0.0
-}
-
 /// `kind = "fig1"`: the Fig. 1 car (docs/model.md §5).
 #[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
@@ -356,7 +352,7 @@ pub struct Fig1Keys {
     pub wheel_mass_kg: f64,
     /// X of the leading wheel at t = 0 (m from the left end of span 1; default 0: the
     /// paper's passage starts with it over the first support).
-    #[serde(default, skip_serializing_if = "is_zero")]
+    #[serde(default, skip_serializing_if = "crate::physics::vehicle::is_zero")]
     pub position_m: f64,
     /// How the magnets face their rails (docs/model.md §2); default `paper`.
     #[serde(default)]

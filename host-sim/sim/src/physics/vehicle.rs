@@ -101,7 +101,8 @@ pub struct Fig1 {
     pub position: f64,
 }
 
-fn is_zero(x: &f64) -> bool {
+/// Zero: a default left out of what is serialised (`serde(skip_serializing_if)`).
+pub(crate) fn is_zero(x: &f64) -> bool {
     *x == 0.0
 }
 

@@ -379,10 +379,8 @@ impl VehiclePlant {
                     } else {
                         g.lateral_at_magnets[w]
                     };
-                    if phi != 0.0 || k == 0 {
-                        gap_terms.push((nv + j, -dh * phi / h0));
-                        f[(nv + j, at.x)] -= phi * df * 2.0 * p0;
-                    }
+                    gap_terms.push((nv + j, -dh * phi / h0));
+                    f[(nv + j, at.x)] -= phi * df * 2.0 * p0;
                 }
                 let dv = match state_law {
                     None => magnet::write_rows(&mut a, at, &gap_terms, &lp, gains)?,
