@@ -111,15 +111,31 @@ fn heavy_ems_magnets_keep_their_gaps() {
     }
 }
 
+/// The `targets` block of a `stability --format json` report `r`: all eight, each value
+/// against its limit (not only its `met` flag), and `all_met`.
+fn every_target_met(r: &serde_json::Value, what: &str) {
+    let targets = r["targets"]["targets"].as_array().unwrap();
+    assert_eq!(targets.len(), 8, "{what}");
+    for t in targets {
+        let (v, limit) = (f(&t["value"]), f(&t["limit"]));
+        let met = if t["sense"] == "<=" {
+            v <= limit
+        } else {
+            v >= limit
+        };
+        assert!(met && t["met"] == true, "{what}: {t}");
+    }
+    assert_eq!(r["targets"]["all_met"], true, "{what}");
+}
+
 /// Issue 39: the designed gains of a guided vehicle. For the Fig. 1 car on 1000 kg magnets
-/// (200 and 2000 kg: docs/levitation.md, by the same commands; each design takes minutes),
-/// `maglev stability` with `design = true` for both laws reports every
-/// target met (its `targets` block, each value against its limit), and the car under those
-/// gains crosses the rough paper-4.2 span at 10 and 100 m/s (the design's speed: its headroom
-/// is the irregularity at the case's speed) with no collision, every gap inside
-/// (0.5, 1.5)·h0, every |V| within V_max and at most 10 ms saturated. At 150 m/s the supply
-/// saturates for 13 ms (docs/levitation.md), which is not yet within the issue's 10 ms. The
-/// design works on a rigid rail; the runs are on the flexible span.
+/// (200 and 2000 kg: docs/levitation.md, by the same commands), designed at its top speed
+/// (`speed=150`: the headroom is the irregularity at the case's speed), `maglev stability`
+/// with `design = true` for both laws reports every target met (its `targets` block, each
+/// value against its limit), and the car under those gains crosses the rough paper-4.2 span
+/// at 10, 100 and 150 m/s with no collision, every gap inside (0.5, 1.5)·h0, every |V|
+/// within V_max and at most 10 ms saturated. The design works on a rigid rail; the runs are
+/// on the flexible span.
 #[test]
 fn designed_guided_gains_hold_the_fig1_car() {
     let mass = 1000;
@@ -138,6 +154,8 @@ fn designed_guided_gains_hold_the_fig1_car() {
         "controller.state={design=true, vmax_V=500.0}",
         "--set",
         "controller.guidance={design=true}",
+        "--set",
+        "speed=150",
         "--format",
         "json",
     ]);
@@ -147,17 +165,7 @@ fn designed_guided_gains_hold_the_fig1_car() {
         String::from_utf8_lossy(&o.stderr)
     );
     let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let targets = r["targets"]["targets"].as_array().unwrap();
-    assert_eq!(targets.len(), 8, "{mass} kg");
-    for t in targets {
-        let (v, limit) = (f(&t["value"]), f(&t["limit"]));
-        let met = if t["sense"] == "<=" {
-            v <= limit
-        } else {
-            v >= limit
-        };
-        assert!(met && t["met"] == true, "{mass} kg: {t}");
-    }
+    every_target_met(&r, &format!("{mass} kg"));
     let gains = |key: &str, extra: &str| {
         let g = r[key].as_object().unwrap();
         let kv: Vec<String> = [
@@ -174,7 +182,7 @@ fn designed_guided_gains_hold_the_fig1_car() {
     };
     let state = format!("controller.state={}", gains("gains", ", vmax_V=500.0"));
     let guidance = format!("controller.guidance={}", gains("guidance_gains", ""));
-    for speed in [10, 100] {
+    for speed in [10, 100, 150] {
         let what = format!("designed, {mass} kg at {speed} m/s");
         let sets = [
             m.clone(),
@@ -187,6 +195,42 @@ fn designed_guided_gains_hold_the_fig1_car() {
         let saturated = s["saturated_s"].as_f64().unwrap_or(0.0);
         assert!(saturated <= 0.010, "{what}: {saturated} s saturated");
     }
+}
+
+/// Issue 39 on the Fig. 6 carriage of the §5 train (32 magnet wheels, 96 loops: a levitation
+/// magnet and a guidance pair each; 338 states with the designed laws) on 500 kg magnets:
+/// `maglev stability --scenario paper-5` with `design = true` for both laws reports every
+/// target met (each value against its limit, every loop's margins), no zero pole. About two
+/// minutes. The same gains in the §5 run (83.33 m/s over the viaduct's rough rail) keep every
+/// gap above 6.8 mm but saturate 184 of the 1152 coils, the longest for 104 ms
+/// (docs/levitation.md): not yet the issue's 10 ms, so no run is asserted here.
+#[test]
+fn designed_guided_gains_meet_every_target_on_the_fig6_carriage() {
+    let o = maglev(&[
+        "stability",
+        "--scenario",
+        "paper-5",
+        "--set",
+        "geometry=ems",
+        "--set",
+        "law=state",
+        "--set",
+        "train.wheel_mass_kg=500",
+        "--set",
+        "controller.state={design=true, vmax_V=500.0}",
+        "--set",
+        "controller.guidance={design=true}",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(r["zero_poles"], 0);
+    assert_eq!(r["margins"].as_array().unwrap().len(), 96);
+    for m in r["margins"].as_array().unwrap() {
+        assert!(m["stable_with_delay"] == true, "{m}");
+    }
+    every_target_met(&r, "the Fig. 6 carriage");
 }
 
 /// Issue 26 point 6 on the §5 train (12 Fig. 6 carriages, 384 magnets, 35 spans, the Table 1

@@ -181,6 +181,19 @@ fn peak_rate(t: &[f64], s: &[f64], t0: f64, t1: f64) -> (f64, usize) {
     (sxy / sxx, peaks.len())
 }
 
+/// The decay rate of `s` over `(t0, t1)` ([`peak_rate`], at least 10 peaks), asserted
+/// within 5 % of `pole`'s real part; returned.
+fn within_5_percent(t: &[f64], s: &[f64], (t0, t1): (f64, f64), pole: Complex) -> f64 {
+    let (got, peaks) = peak_rate(t, s, t0, t1);
+    assert!(peaks >= 10, "{peaks} peaks");
+    assert!(
+        (got - pole.re).abs() < 0.05 * pole.re.abs(),
+        "predicted {}, measured {got} over {peaks} peaks",
+        pole.re
+    );
+    got
+}
+
 #[test]
 fn designed_fig1_car_decays_at_its_slowest_pole_on_a_rigid_rail() {
     // The 2000 kg design (docs/levitation.md "Design of a guided vehicle"): slowest pole
@@ -195,14 +208,8 @@ fn designed_fig1_car_decays_at_its_slowest_pole_on_a_rigid_rail() {
         "{pole:?}: the next pole {next} is too close for one mode to dominate"
     );
     let (t, y) = lateral(&case, 1e-4, &mut CoreMagnets::new());
-    let (got, peaks) = peak_rate(&t, &y, t0, t1);
-    eprintln!("predicted {pole:?} (next {next}), measured {got} over {peaks} peaks");
-    assert!(peaks >= 10, "{peaks} peaks");
-    assert!(
-        (got - pole.re).abs() < 0.05 * pole.re.abs(),
-        "predicted {}, measured {got}",
-        pole.re
-    );
+    let got = within_5_percent(&t, &y, (t0, t1), pole);
+    eprintln!("predicted {pole:?} (next {next}), measured {got}");
 }
 
 #[test]
@@ -255,4 +262,40 @@ fn designed_fig1_car_decays_at_its_coupled_slowest_pole_over_a_span() {
         rigid.re,
         pole.re
     );
+}
+
+/// The §5 train's Fig. 6 carriage on 500 kg EMS magnets, both laws designed (docs/levitation.md
+/// "Design of a guided vehicle").
+const DESIGNED_CARRIAGE: [&str; 5] = [
+    "geometry=ems",
+    "law=state",
+    "train.wheel_mass_kg=500",
+    "controller.state={design=true, vmax_V=500.0}",
+    "controller.guidance={design=true}",
+];
+
+#[test]
+fn designed_fig6_carriage_decays_at_its_slowest_pole_on_a_rigid_rail() {
+    // One carriage (slowest pole −0.211 ± 2.69j, the body on its secondary suspension; then
+    // 24 real poles at −0.236 and oscillating ones from −1.0). The real ones are too close
+    // for the slowest to dominate the motion, but the per-step increments the rate is read
+    // from scale each mode by its |s|: the real modes' share falls by 2.69/0.236 ≈ 11 against
+    // the oscillation, and from t0 = 8 s the modes from −1.0 are below e^{−0.79·8} ≈ 0.2 %.
+    let (t0, t1) = (8.0, 25.0);
+    let sets = DESIGNED_CARRIAGE;
+    let t_end = format!("t_end={t1}");
+    let run = [
+        "model=rigid",
+        "train.cars=1",
+        "speed=10",
+        "irregularity.enabled=false",
+        "dt=2e-4",
+        "output.probes=[\"wheel1.z\"]",
+        &t_end,
+    ];
+    let case = designed_with("paper-5", &sets, &run);
+    let (pole, next) = slowest(&case);
+    let (t, y) = lateral(&case, 1e-4, &mut CoreMagnets::new());
+    let got = within_5_percent(&t, &y, (t0, t1), pole);
+    eprintln!("predicted {pole:?} (next {next}), measured {got}");
 }

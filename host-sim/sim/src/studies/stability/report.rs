@@ -8,7 +8,7 @@ use crate::studies::stability::coupled::{coupled, Coupled};
 use crate::studies::stability::girder::GirderMode;
 use crate::studies::stability::headroom::{headroom, Headroom};
 use crate::studies::stability::marginal::{self, Honest, Kind};
-use crate::studies::stability::margins::{margins, Margins};
+use crate::studies::stability::margins::{margins_of, Margins};
 use crate::studies::stability::multiloop::{vehicle_disk_margin, DiskMargin};
 use crate::studies::stability::suspension::{held_poles, target_of};
 use crate::studies::stability::targets::{targets, Inputs, Targets, MAX_REAL_PART};
@@ -117,9 +117,8 @@ pub const DELAY_PERIODS: f64 = 1.5;
 
 /// Every magnet's margins in `plant` with the delay `delay` (s).
 pub fn all_margins(plant: &VehiclePlant, delay: f64) -> crate::Result<Vec<Margins>> {
-    (0..plant.magnets.len())
-        .map(|k| margins(plant, k, delay))
-        .collect()
+    let all: Vec<usize> = (0..plant.magnets.len()).collect();
+    margins_of(plant, &all, delay)
 }
 
 /// Computes the report of scenario `name` as `case` (loaded with its law resolved,

@@ -201,10 +201,10 @@ pub fn check_guided(
     let margins = if poles_first && worst.0 > 0.0 {
         Vec::new()
     } else {
-        (0..plant.magnets.len())
+        let ks: Vec<usize> = (0..plant.magnets.len())
             .filter(|&k| counted(&plant.magnets[k].name))
-            .map(|k| super::margins::margins(&plant, k, delay))
-            .collect::<crate::Result<Vec<_>>>()?
+            .collect();
+        super::margins::margins_of(&plant, &ks, delay)?
     };
     let (x, what) = margins_shortfall(&margins);
     if x > worst.0 || x.is_nan() {
