@@ -202,8 +202,9 @@ fn designed_guided_gains_hold_the_fig1_car() {
 /// `maglev stability --scenario paper-5` with `design = true` for both laws reports every
 /// target met (each value against its limit, every loop's margins), no zero pole. About two
 /// minutes. The same gains in the §5 run (83.33 m/s over the viaduct's rough rail) keep every
-/// gap above 6.8 mm but saturate 184 of the 1152 coils, the longest for 104 ms
-/// (docs/levitation.md): not yet the 10 ms, so no run is asserted here.
+/// gap above 6.8 mm but saturate 184 of the 1152 coils, the longest for 104 ms, where on a
+/// rigid guideway they peak at 267 V (docs/levitation.md, "The §5 train"): the viaduct is
+/// not yet in the design, so no run is asserted here.
 #[test]
 fn designed_guided_gains_meet_every_target_on_the_fig6_carriage() {
     let o = maglev(&[
