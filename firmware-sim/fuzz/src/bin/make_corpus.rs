@@ -146,6 +146,44 @@ fn main() {
             body(5, Request::Ping),
         ],
     ));
+    // The designed Fig. 6 carriage's laws (docs/levitation.md): the state law on the
+    // levitation channel, the guidance law on the pair (channels 1 and 2).
+    let designed = LawKind::State(StateParams {
+        kp: 345_418.9,
+        kd: 2_710.3,
+        ka: 0.0,
+        ki: 1_523_272.0,
+        kc: 50.19,
+        v_max: 500.0,
+        rate_hz: 10_000.0,
+        observer_hz: 300.0,
+        geometry: Geometry::Ems,
+    });
+    let mut guided = config(ScalarKind::F32, designed);
+    guided.guidance = Some(GuidanceParams {
+        kp: 94_873.7,
+        kd: 1_482.2,
+        ka: 0.0,
+        ki: 3_308.5,
+        kc: 20.34,
+    });
+    seeds.push((
+        "state-guided-f32",
+        vec![
+            body(1, Request::Config(guided)),
+            body(
+                2,
+                Request::StepAccel {
+                    step: 1,
+                    codes: codes(32768),
+                    wired: 0b001,
+                    accel: accel(2049),
+                },
+            ),
+            body(3, Request::Commit { step: 1 }),
+            body(5, Request::Ping),
+        ],
+    ));
     seeds.push(("ping", vec![body(1, Request::Ping)]));
     fs::create_dir_all("corpus/handler").unwrap();
     fs::create_dir_all("corpus/decode").unwrap();
