@@ -63,11 +63,13 @@ fn rigid_designed(scenario: &str, sets: &[&str], t_end: f64) -> Case {
     designed_with(scenario, sets, &run)
 }
 
-/// The core's magnets with a force kick on wheel 1 (N, vertical and lateral) until `until`.
+/// The core's magnets with a force kick (N, vertical and lateral) until `until`, on wheel 1
+/// or (`every`) on every wheel.
 struct Kicked {
     inner: CoreMagnets,
     kick: (f64, f64),
     until: f64,
+    every: bool,
 }
 
 impl Magnets for Kicked {
@@ -87,8 +89,11 @@ impl Magnets for Kicked {
         self.inner
             .forces(step, t, gaps_prev, gaps_next, accels, out)?;
         if t <= self.until {
-            out[0].0 += self.kick.0;
-            out[0].1 += self.kick.1;
+            let n = if self.every { out.len() } else { 1 };
+            for o in &mut out[..n] {
+                o.0 += self.kick.0;
+                o.1 += self.kick.1;
+            }
         }
         Ok(())
     }
@@ -240,6 +245,7 @@ fn designed_fig1_car_decays_at_its_coupled_slowest_pole_over_a_span() {
         inner: CoreMagnets::new(),
         kick: (0.01 * load, 0.01 * load),
         until: 0.05,
+        every: false,
     };
     let (t, y) = lateral(&case, 0.0, &mut kicked);
     let (got, peaks) = peak_rate(&t, &y, t0, t1);
@@ -296,6 +302,50 @@ fn designed_fig6_carriage_decays_at_its_slowest_pole_on_a_rigid_rail() {
     let case = designed_with("paper-5", &sets, &run);
     let (pole, next) = slowest(&case);
     let (t, y) = lateral(&case, 1e-4, &mut CoreMagnets::new());
+    let got = within_5_percent(&t, &y, (t0, t1), pole);
+    eprintln!("predicted {pole:?} (next {next}), measured {got}");
+}
+
+#[test]
+fn designed_fig6_carriage_decays_at_its_coupled_slowest_pole_over_a_span() {
+    // The design of the rigid-rail test, one carriage standing still at the start of the
+    // light-girder case (docs/cases/light-girder-train.toml: the §4.2 girder, 25 m spans) with
+    // 2 % Rayleigh damping at its first and third bending modes; a 50 ms kick of 1 % of a
+    // wheel's load on every magnet (the body's sway, as the rail step of the rigid test; a
+    // kick on one wheel excites the carriage's other slow modes as much). Measured: coupled
+    // prediction −0.211089, the run −0.21053 over 15 peaks. This girder moves the slowest
+    // pole by 2e-13 only (the body's sway on its secondary suspension, far below the span's
+    // 6.13 Hz), so the test holds the prediction on a span, not a girder effect.
+    let case_file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../docs/cases/light-girder-train.toml"
+    );
+    let (t0, t1) = (8.0, 25.0);
+    let t_end = format!("t_end={t1}");
+    let run = [
+        "model=fe",
+        "train.cars=1",
+        "speed=0",
+        "irregularity.enabled=false",
+        "dt=2e-4",
+        "bridge.damping={ratio=0.02, f1_Hz=6.13, f2_Hz=49.0}",
+        &t_end,
+    ];
+    let designed = designed_with("paper-5", &DESIGNED_CARRIAGE, &[]);
+    let mut all = strings(&DESIGNED_CARRIAGE[..3]);
+    all.extend(strings(&run));
+    let mut case = Case::load(case_file, &all).unwrap();
+    case.law = designed.law;
+    case.guidance = designed.guidance;
+    let (pole, next) = slowest(&case);
+    let load = (50_000.0 / 32.0 + 500.0) * maglev_core::levitation::GRAVITY;
+    let mut kicked = Kicked {
+        inner: CoreMagnets::new(),
+        kick: (0.01 * load, 0.01 * load),
+        until: 0.05,
+        every: true,
+    };
+    let (t, y) = lateral(&case, 0.0, &mut kicked);
     let got = within_5_percent(&t, &y, (t0, t1), pole);
     eprintln!("predicted {pole:?} (next {next}), measured {got}");
 }
