@@ -48,6 +48,24 @@ fn body(seq: u32, msg: Request) -> Vec<u8> {
     .unwrap()
 }
 
+/// A `StepAccel` body (sequence `seq`) with channel 0's accelerometer wired.
+fn step_accel(
+    seq: u32,
+    step: u32,
+    codes: HVec<u16, MAX_SAMPLES>,
+    accel: HVec<i16, MAX_SAMPLES>,
+) -> Vec<u8> {
+    body(
+        seq,
+        Request::StepAccel {
+            step,
+            codes,
+            wired: 0b001,
+            accel,
+        },
+    )
+}
+
 fn prefixed(bodies: &[Vec<u8>]) -> Vec<u8> {
     let mut v = Vec::new();
     for b in bodies {
@@ -124,25 +142,9 @@ fn main() {
         "state-f32",
         vec![
             body(1, Request::Config(config(ScalarKind::F32, state))),
-            body(
-                2,
-                Request::StepAccel {
-                    step: 1,
-                    codes: codes(32768),
-                    wired: 0b001,
-                    accel: accel(2049),
-                },
-            ),
+            step_accel(2, 1, codes(32768), accel(2049)),
             body(3, Request::Commit { step: 1 }),
-            body(
-                4,
-                Request::StepAccel {
-                    step: 2,
-                    codes: codes(32770),
-                    wired: 0b001,
-                    accel: accel(-30000),
-                },
-            ),
+            step_accel(4, 2, codes(32770), accel(-30000)),
             body(5, Request::Ping),
         ],
     ));
@@ -171,15 +173,7 @@ fn main() {
         "state-guided-f32",
         vec![
             body(1, Request::Config(guided)),
-            body(
-                2,
-                Request::StepAccel {
-                    step: 1,
-                    codes: codes(32768),
-                    wired: 0b001,
-                    accel: accel(2049),
-                },
-            ),
+            step_accel(2, 1, codes(32768), accel(2049)),
             body(3, Request::Commit { step: 1 }),
             body(5, Request::Ping),
         ],

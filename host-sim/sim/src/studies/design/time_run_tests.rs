@@ -41,10 +41,15 @@ fn strings(s: &[&str]) -> Vec<String> {
 /// `scenario` with `sets`, its laws designed, then with `run` added (the run's guideway),
 /// keeping the designed gains.
 fn designed_with(scenario: &str, sets: &[&str], run: &[&str]) -> Case {
-    let designed = crate::studies::design::load(scenario, &strings(sets)).unwrap();
+    designed_onto(scenario, sets, scenario, run)
+}
+
+/// The laws `design` with `sets` designs, flown on `onto` with `sets` and `run`.
+fn designed_onto(design: &str, sets: &[&str], onto: &str, run: &[&str]) -> Case {
+    let designed = crate::studies::design::load(design, &strings(sets)).unwrap();
     let mut all = strings(sets);
     all.extend(strings(run));
-    let mut case = Case::load(scenario, &all).unwrap();
+    let mut case = Case::load(onto, &all).unwrap();
     case.law = designed.law;
     case.guidance = designed.guidance;
     case
@@ -70,6 +75,18 @@ struct Kicked {
     kick: (f64, f64),
     until: f64,
     every: bool,
+}
+
+impl Kicked {
+    /// A kick of 1 % of `load` (N) both ways for the first 50 ms, on wheel 1 or every wheel.
+    fn one_percent(load: f64, every: bool) -> Self {
+        Kicked {
+            inner: CoreMagnets::new(),
+            kick: (0.01 * load, 0.01 * load),
+            until: 0.05,
+            every,
+        }
+    }
 }
 
 impl Magnets for Kicked {
@@ -241,26 +258,14 @@ fn designed_fig1_car_decays_at_its_coupled_slowest_pole_over_a_span() {
         "{pole:?}: the next pole {next} is too close for one mode to dominate"
     );
     let load = (15_000.0 / 4.0 + 2000.0) * maglev_core::levitation::GRAVITY;
-    let mut kicked = Kicked {
-        inner: CoreMagnets::new(),
-        kick: (0.01 * load, 0.01 * load),
-        until: 0.05,
-        every: false,
-    };
-    let (t, y) = lateral(&case, 0.0, &mut kicked);
-    let (got, peaks) = peak_rate(&t, &y, t0, t1);
+    let (t, y) = lateral(&case, 0.0, &mut Kicked::one_percent(load, false));
+    let got = within_5_percent(&t, &y, (t0, t1), pole);
     // The same gains on a rigid rail: the girder moves the slowest pole (−0.4263 to −0.4243
     // 1/s), and the run must follow the coupled model, not the rigid one.
     let (rigid, _) = slowest(&rigid_designed("paper-4.2", &sets, t1));
     eprintln!(
-        "predicted {pole:?} (next {next}; rigid rail {}), measured {got} over {peaks} peaks",
+        "predicted {pole:?} (next {next}; rigid rail {}), measured {got}",
         rigid.re
-    );
-    assert!(peaks >= 10, "{peaks} peaks");
-    assert!(
-        (got - pole.re).abs() < 0.05 * pole.re.abs(),
-        "predicted {}, measured {got}",
-        pole.re
     );
     assert!(
         (got - pole.re).abs() < (got - rigid.re).abs(),
@@ -331,21 +336,10 @@ fn designed_fig6_carriage_decays_at_its_coupled_slowest_pole_over_a_span() {
         "bridge.damping={ratio=0.02, f1_Hz=6.13, f2_Hz=49.0}",
         &t_end,
     ];
-    let designed = designed_with("paper-5", &DESIGNED_CARRIAGE, &[]);
-    let mut all = strings(&DESIGNED_CARRIAGE[..3]);
-    all.extend(strings(&run));
-    let mut case = Case::load(case_file, &all).unwrap();
-    case.law = designed.law;
-    case.guidance = designed.guidance;
+    let case = designed_onto("paper-5", &DESIGNED_CARRIAGE, case_file, &run);
     let (pole, next) = slowest(&case);
     let load = (50_000.0 / 32.0 + 500.0) * maglev_core::levitation::GRAVITY;
-    let mut kicked = Kicked {
-        inner: CoreMagnets::new(),
-        kick: (0.01 * load, 0.01 * load),
-        until: 0.05,
-        every: true,
-    };
-    let (t, y) = lateral(&case, 0.0, &mut kicked);
+    let (t, y) = lateral(&case, 0.0, &mut Kicked::one_percent(load, true));
     let got = within_5_percent(&t, &y, (t0, t1), pole);
     eprintln!("predicted {pole:?} (next {next}), measured {got}");
 }

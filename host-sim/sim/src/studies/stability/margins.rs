@@ -30,7 +30,7 @@
 //! `ω·T = 0.1`, far above any crossover here). When it is not, the margins are `None`.
 
 use super::resolvent::Resolvent;
-use super::vehicle::{MagnetLoop, VehiclePlant};
+use super::vehicle::VehiclePlant;
 use nalgebra::{Complex, DMatrix, DVector};
 use serde::Serialize;
 
@@ -85,19 +85,12 @@ fn with_delay(g: Complex<f64>, s: Complex<f64>, delay: f64) -> Complex<f64> {
 impl BrokenLoop {
     /// Magnet `k` of `plant` with the delay `delay` (s, ≥ 0).
     pub fn new(plant: &VehiclePlant, k: usize, delay: f64) -> crate::Result<Self> {
-        let (b, f) = loop_vectors(plant, k)?;
-        let n = plant.a.nrows();
-        let a_ol = &plant.a - &b * f.transpose();
-        let response = Resolvent::new(
-            &plant.a,
-            &DMatrix::from_column_slice(n, 1, b.as_slice()),
-            &DMatrix::from_row_slice(1, n, f.as_slice()),
-        );
+        let (b, f) = super::multiloop::loop_matrices(plant, &[k])?;
         Ok(BrokenLoop {
-            a_ol,
-            b,
-            f,
-            response,
+            a_ol: &plant.a - &b * &f,
+            response: Resolvent::new(&plant.a, &b, &f),
+            b: b.column(0).into_owned(),
+            f: f.row(0).transpose(),
             delay,
         })
     }
@@ -126,23 +119,6 @@ impl BrokenLoop {
     }
 }
 
-/// Magnet `k`'s input column `b = e_x/τ` and voltage row `f = Δv` in `plant`.
-fn loop_vectors(plant: &VehiclePlant, k: usize) -> crate::Result<(DVector<f64>, DVector<f64>)> {
-    let m: &MagnetLoop = plant
-        .magnets
-        .get(k)
-        .ok_or_else(|| crate::Error::numerical("internal: no such magnet"))?;
-    let n = plant.a.nrows();
-    if m.dv.len() != n {
-        return Err(crate::Error::numerical(
-            "internal: the magnet's voltage row does not span the state",
-        ));
-    }
-    let mut b = DVector::zeros(n);
-    b[m.x] = 1.0 / m.tau;
-    Ok((b, DVector::from_column_slice(&m.dv)))
-}
-
 /// `L(jω)` of the magnets `ks` on the grid `ws`, one LU of `jωI − A` per frequency for all
 /// of them: `[loop][frequency]`.
 fn grid_responses(
@@ -151,13 +127,7 @@ fn grid_responses(
     delay: f64,
     ws: &[f64],
 ) -> crate::Result<Vec<Vec<Complex<f64>>>> {
-    let n = plant.a.nrows();
-    let (mut b, mut f) = (DMatrix::zeros(n, ks.len()), DMatrix::zeros(ks.len(), n));
-    for (c, &k) in ks.iter().enumerate() {
-        let (bk, fk) = loop_vectors(plant, k)?;
-        b.set_column(c, &bk);
-        f.set_row(c, &fk.transpose());
-    }
+    let (b, f) = super::multiloop::loop_matrices(plant, ks)?;
     let r = Resolvent::new(&plant.a, &b, &f);
     let mut out = vec![Vec::with_capacity(ws.len()); ks.len()];
     for &w in ws {
@@ -362,6 +332,7 @@ fn sensitivity_peak(lp: &BrokenLoop, ws: &[f64], ls: &[Complex<f64>]) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::vehicle::MagnetLoop;
     use super::*;
 
     /// The root finder lands on known roots to 1e-12 relative, from either sign, in far fewer

@@ -76,20 +76,8 @@ pub struct Cut {
 impl Cut {
     /// Every magnet loop of `plant` cut at its coil voltage, `delay` (s) in each.
     pub fn of(plant: &VehiclePlant, delay: f64) -> crate::Result<Self> {
-        let n = plant.a.nrows();
-        let m = plant.magnets.len();
-        let (mut b, mut f) = (DMatrix::zeros(n, m), DMatrix::zeros(m, n));
-        for (k, l) in plant.magnets.iter().enumerate() {
-            if l.dv.len() != n {
-                return Err(crate::Error::numerical(
-                    "internal: a magnet's voltage row does not span the state",
-                ));
-            }
-            b[(l.x, k)] = 1.0 / l.tau;
-            for (j, v) in l.dv.iter().enumerate() {
-                f[(k, j)] = *v;
-            }
-        }
+        let all: Vec<usize> = (0..plant.magnets.len()).collect();
+        let (b, f) = loop_matrices(plant, &all)?;
         Ok(Cut {
             a_ol: &plant.a - &b * &f,
             b,
@@ -168,6 +156,32 @@ impl Cut {
         }
         a
     }
+}
+
+/// The loops `ks` of `plant` where they close: `B` (n × len) of the input columns `e_x/τ` and
+/// `F` (len × n) of the law's voltage rows `Δv` ([`super::vehicle::MagnetLoop`]).
+pub(super) fn loop_matrices(
+    plant: &VehiclePlant,
+    ks: &[usize],
+) -> crate::Result<(DMatrix<f64>, DMatrix<f64>)> {
+    let n = plant.a.nrows();
+    let (mut b, mut f) = (DMatrix::zeros(n, ks.len()), DMatrix::zeros(ks.len(), n));
+    for (c, &k) in ks.iter().enumerate() {
+        let l = plant
+            .magnets
+            .get(k)
+            .ok_or_else(|| crate::Error::numerical("internal: no such magnet"))?;
+        if l.dv.len() != n {
+            return Err(crate::Error::numerical(
+                "internal: a magnet's voltage row does not span the state",
+            ));
+        }
+        b[(l.x, c)] = 1.0 / l.tau;
+        for (j, v) in l.dv.iter().enumerate() {
+            f[(c, j)] = *v;
+        }
+    }
+    Ok((b, f))
 }
 
 /// `σ̄(D·M·D⁻¹)`, `D = diag(e^d)`.

@@ -57,13 +57,6 @@ impl std::fmt::Debug for Resolvent {
     }
 }
 
-impl Clone for Resolvent {
-    fn clone(&self) -> Self {
-        let matrix = self.work.borrow().matrix.clone();
-        Resolvent::new_sparse(self.n, self.b.clone(), self.f.clone(), matrix)
-    }
-}
-
 impl Resolvent {
     /// The analysis of `a` (n × n) with `b` (n × k) and `f` (m × n).
     pub fn new(a: &DMatrix<f64>, b: &DMatrix<f64>, f: &DMatrix<f64>) -> Self {
