@@ -124,15 +124,7 @@ pub struct Passage {
 impl Passage {
     /// Builds the passage of `case`.
     pub fn new(case: &Case) -> Result<Self> {
-        let load = match (&case.train, case.vehicle_train()?) {
-            (_, Some(train)) => Load::Vehicle(train),
-            (TrainCase::Forces(f), None) => Load::Forces(f.clone()),
-            (_, None) => {
-                return Err(Error::numerical(
-                    "internal: a train with cars built no train",
-                ))
-            }
-        };
+        let load = load_of(case)?;
         let profiles = profiles_for(case, &load)?;
         let midspans = case.midspans();
         let settings = Settings {
@@ -161,6 +153,26 @@ impl Passage {
             settings,
         })
     }
+}
+
+/// The case's train, or its moving forces.
+fn load_of(case: &Case) -> Result<Load> {
+    Ok(match (&case.train, case.vehicle_train()?) {
+        (_, Some(train)) => Load::Vehicle(train),
+        (TrainCase::Forces(f), None) => Load::Forces(f.clone()),
+        (_, None) => {
+            return Err(Error::numerical(
+                "internal: a train with cars built no train",
+            ))
+        }
+    })
+}
+
+/// The rail irregularity profiles a passage of `case` runs over (as [`Passage::new`] builds
+/// them), for the studies that need the rail without a run; the case's law need not be
+/// resolved.
+pub fn irregularity(case: &Case) -> Result<Profiles> {
+    profiles_for(case, &load_of(case)?)
 }
 
 /// The Table 1 profiles of the case's irregularity over every position a wheel passes

@@ -13,6 +13,7 @@ use crate::studies::stability::inner_loop::Loop;
 use crate::studies::stability::marginal::{self, Kind};
 use crate::studies::stability::plant::{rigid_growth_rate, Plant, Suspension};
 use crate::studies::stability::report::{scenario_report, ScenarioReport};
+use crate::studies::stability::targets::MAX_HEADROOM_RATIO;
 use crate::studies::stability::Complex;
 use maglev_core::gap::Geometry;
 use maglev_core::gap_control::GapParams;
@@ -366,13 +367,21 @@ pub fn scenario_table(r: &ScenarioReport) -> String {
     let h = &r.headroom;
     for p in &h.disturbances {
         out += &format!(
-            "headroom {:<18}peak |V| {:.1} V at {} ({:.3} s){}\n",
+            "headroom {:<18}peak |V| {:.1} V at {}{} ({:.3} s){}\n",
             p.disturbance,
             p.peak_V,
             p.magnet,
+            p.car.map_or(String::new(), |c| format!(" of car {c}")),
             p.t_s,
             p.ratio
                 .map_or(String::new(), |x| format!(", |V|/V_max {x:.3}"))
+        );
+    }
+    if let Some(g) = h.guideway_ratio.filter(|&g| g > MAX_HEADROOM_RATIO) {
+        out += &format!(
+            "warning: on this guideway the supply is asked for {g:.3} of V_max (guideway \
+             headroom above {MAX_HEADROOM_RATIO}): a run is likely to saturate; the design's \
+             targets are on a rigid guideway (docs/levitation.md, \"Supply headroom\")\n"
         );
     }
     if let Some(g) = &r.gap_loop {

@@ -65,14 +65,16 @@ fn resolve_guided(mut case: Case) -> Result<Case> {
     };
     let v = design_vehicle(&case)?;
     // The supply headroom is the case's (its irregularity at its speed): the case with the
-    // candidate's gains.
+    // candidate's gains. The design's targets are on a rigid guideway (docs/levitation.md,
+    // "Supply headroom"): the flexible guideway's own disturbance is reported, not designed
+    // for.
     let headroom = |lev: &maglev_core::law::state::StateParams,
                     g: &maglev_core::law::guidance::GuidanceParams|
      -> Result<(f64, String)> {
         let mut c = case.clone();
         c.law = LawChoice::Given(LawKind::State(*lev));
         c.guidance = GuidanceChoice::Given(*g);
-        let h = crate::studies::stability::headroom::headroom(&c)?;
+        let h = crate::studies::stability::headroom::headroom(&c, None)?;
         let worst = h
             .disturbances
             .iter()

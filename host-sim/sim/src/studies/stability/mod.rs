@@ -27,6 +27,7 @@ mod fig6_check;
 pub mod gap_loop;
 pub mod gauss;
 pub mod girder;
+pub mod guideway_rail;
 pub mod headroom;
 pub mod inner_loop;
 pub mod magnet;

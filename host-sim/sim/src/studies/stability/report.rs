@@ -180,7 +180,8 @@ pub fn case_report(
         .collect();
     let margins = all_margins(&plant, delay)?;
     let disk_margin = vehicle_disk_margin(&plant, delay)?;
-    let headroom = headroom(case)?;
+    let rail = crate::studies::stability::guideway_rail::GuidewayRail::of(case, &v)?;
+    let headroom = headroom(case, rail.as_ref())?;
     let suspension_poles = held_poles(&v)?;
     let targets = targets(&Inputs {
         max_real_part: vd.max_real_part,
