@@ -61,6 +61,23 @@ fn run_ems_state(scenario: &str, name: &str, sets: &[String]) -> serde_json::Val
     s
 }
 
+/// `maglev run SCENARIO` of a train under the state law on 500 kg EMS magnets (the
+/// scenario's own gains) into `d`.
+fn run_train_500kg(scenario: &str, d: &std::path::Path) -> Output {
+    maglev(&[
+        "run",
+        scenario,
+        "--set",
+        "geometry=ems",
+        "--set",
+        "law=state",
+        "--set",
+        "train.wheel_mass_kg=500",
+        "--out",
+        d.to_str().unwrap(),
+    ])
+}
+
 fn summary(d: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap()
 }
@@ -250,18 +267,7 @@ fn designed_guided_gains_meet_every_target_on_the_fig6_carriage() {
 #[test]
 fn the_paper_5_train_keeps_its_gaps() {
     let d = out_dir("paper-5");
-    let o = maglev(&[
-        "run",
-        "paper-5",
-        "--set",
-        "geometry=ems",
-        "--set",
-        "law=state",
-        "--set",
-        "train.wheel_mass_kg=500",
-        "--out",
-        d.to_str().unwrap(),
-    ]);
+    let o = run_train_500kg("paper-5", &d);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let s = summary(&d);
     let _ = std::fs::remove_dir_all(&d);
@@ -427,4 +433,27 @@ fn the_guideway_headroom_predicts_the_unit_s_peak_voltage_over_its_span() {
         (p - m).abs() < 0.1 * m,
         "headroom {predicted} V, run {measured} V"
     );
+}
+
+/// A run that leaves every state the model describes is refused, not summarised: the README's
+/// gains on three Fig. 6 carriages over the undamped light girder (docs/levitation.md, "Trains
+/// on a light girder") pump the girder until a gap reaches 1.25e15 m at 3.0 s. Exit 2, one
+/// line naming the time, the magnet and the bound, and no output directory (summary.json
+/// used to report a smallest gap of −3.28e133 m).
+#[test]
+fn a_run_whose_gap_diverges_writes_nothing() {
+    let case_file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../docs/cases/light-girder-train.toml"
+    );
+    let d = out_dir("diverged-gap");
+    let o = run_train_500kg(case_file, &d);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    let last = err.lines().last().unwrap_or("");
+    assert!(
+        last.contains("the run diverged at t = ") && last.contains("beyond 100·h0"),
+        "{err}"
+    );
+    assert!(!d.exists(), "{} was written", d.display());
 }

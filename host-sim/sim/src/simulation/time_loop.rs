@@ -26,6 +26,23 @@ use crate::physics::vehicle::magnet_gaps;
 use crate::probes::{written, Recorder, StepView, Wheels};
 use crate::{Error, Result};
 
+/// A gap farther than this many `h0` from `h0` (or not finite) ends the run as diverged: the
+/// skids hold a landed magnet within a few `h0` of its rail (docs/contact.md), so such a gap
+/// is no state the model describes (an undamped girder pumped by the loops, a supply far
+/// beyond its coil), and its numbers would be garbage in summary.json.
+const DIVERGED_GAP: f64 = 100.0;
+
+/// The error of a run whose magnet wheel `i` (0-based, the train's order) reached gap `h`.
+fn diverged_gap(t: f64, i: usize, h: f64, h0: f64) -> Error {
+    Error::numerical(format!(
+        "the run diverged at t = {t} s: magnet wheel {} has a gap of {h:e} m, beyond \
+         {DIVERGED_GAP}·h0 = {:e} m of h0; no outputs are written (a loop feeding an undamped \
+         girder, or a value of the case too extreme)",
+        i + 1,
+        DIVERGED_GAP * h0
+    ))
+}
+
 /// What rides over the guideway: a train's magnet wheels and contacts, and constant moving
 /// forces (one of the two is empty).
 pub(super) struct Riders<'a> {
@@ -512,8 +529,11 @@ impl<'a, G: Guideway, M: Magnets + ?Sized> TimeLoop<'a, G, M> {
         buf.gaps_prev.copy_from_slice(&buf.gaps_used);
         self.skids.commit(t);
         let mut collision = self.skids.touching();
-        for (r, &g) in tally.gap_ranges.iter_mut().zip(&buf.gaps_used) {
+        for (i, (r, &g)) in tally.gap_ranges.iter_mut().zip(&buf.gaps_used).enumerate() {
             for (r, h) in r.iter_mut().zip(magnet_gaps(g, self.h0)) {
+                if !h.is_finite() || (h - self.h0).abs() > DIVERGED_GAP * self.h0 {
+                    return Err(diverged_gap(t, i, h, self.h0));
+                }
                 *r = (r.0.min(h), r.1.max(h));
                 collision |= h <= 0.0;
             }
