@@ -37,6 +37,19 @@ fn run_state(scenario: &str, name: &str, sets: &[String]) -> serde_json::Value {
 /// among them), expecting success; returns summary.json.
 fn run_ems_state(scenario: &str, name: &str, sets: &[String]) -> serde_json::Value {
     let d = out_dir(name);
+    let o = ems_state(scenario, &d, sets);
+    assert!(
+        o.status.success(),
+        "{name}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let s = summary(&d);
+    let _ = std::fs::remove_dir_all(&d);
+    s
+}
+
+/// `maglev run SCENARIO --set geometry=ems --set law=state` with `sets`, into `d`.
+fn ems_state(scenario: &str, d: &std::path::Path, sets: &[String]) -> Output {
     let mut args = vec![
         "run",
         scenario,
@@ -50,32 +63,13 @@ fn run_ems_state(scenario: &str, name: &str, sets: &[String]) -> serde_json::Val
     for s in sets {
         args.extend(["--set", s]);
     }
-    let o = maglev(&args);
-    assert!(
-        o.status.success(),
-        "{name}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let s = summary(&d);
-    let _ = std::fs::remove_dir_all(&d);
-    s
+    maglev(&args)
 }
 
 /// `maglev run SCENARIO` of a train under the state law on 500 kg EMS magnets (the
 /// scenario's own gains) into `d`.
 fn run_train_500kg(scenario: &str, d: &std::path::Path) -> Output {
-    maglev(&[
-        "run",
-        scenario,
-        "--set",
-        "geometry=ems",
-        "--set",
-        "law=state",
-        "--set",
-        "train.wheel_mass_kg=500",
-        "--out",
-        d.to_str().unwrap(),
-    ])
+    ems_state(scenario, d, &["train.wheel_mass_kg=500".to_string()])
 }
 
 fn summary(d: &std::path::Path) -> serde_json::Value {
