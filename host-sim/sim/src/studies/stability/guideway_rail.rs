@@ -85,25 +85,26 @@ impl GuidewayRail {
         let dt = g.time_step();
         let steps = (case.t_end / dt).round() as usize;
         let dh = case.geometry.levitation_sign();
-        let at = |t: f64| -> Vec<PointLoad> {
-            train
-                .wheels
-                .iter()
-                .zip(&train.p0)
-                .map(|(w, &p0)| PointLoad {
-                    x: w.x0 + case.speed * t,
-                    ey: w.ey,
-                    ez: w.ez,
-                    fy: 0.0,
-                    fz: -p0,
-                })
-                .collect()
-        };
+        // Every magnet's static load; each step moves them to `x0 + v·t`.
+        let mut loads: Vec<PointLoad> = train
+            .wheels
+            .iter()
+            .zip(&train.p0)
+            .map(|(w, &p0)| PointLoad {
+                x: w.x0,
+                ey: w.ey,
+                ez: w.ez,
+                fy: 0.0,
+                fz: -p0,
+            })
+            .collect();
         let mut cars: Vec<(usize, Vec<Vec<f64>>)> =
             kept.iter().map(|&c| (c + 1, vec![vec![0.0]; nw])).collect();
         for j in 1..=steps {
             let t = j as f64 * dt;
-            let loads = at(t);
+            for (l, w) in loads.iter_mut().zip(&train.wheels) {
+                l.x = w.x0 + case.speed * t;
+            }
             g.solve_step(&loads);
             for (c, (_, series)) in kept.iter().zip(cars.iter_mut()) {
                 for (k, s) in series.iter_mut().enumerate() {
